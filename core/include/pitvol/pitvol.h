@@ -1,0 +1,171 @@
+/*
+ * pitvol core — C ABI.
+ *
+ * A measuring session lives in one memory block that the caller provides.
+ * The caller asks how many bytes a configuration needs, hands over a block
+ * of that size, pushes point batches while the scan runs, may ask for a
+ * running estimate, and calls finish() for the result.
+ *
+ *   pv_config_t cfg;  pv_config_default(&cfg);
+ *   size_t n = 0;     pv_session_size(&cfg, &n);
+ *   void *block = aligned_alloc(PV_BLOCK_ALIGN, n);
+ *   pv_session_t *s;  pv_session_init(&cfg, block, n, &s);
+ *   pv_session_push(s, pts, count);   ... many times ...
+ *   pv_result_t r;    pv_session_finish(s, &r);
+ *   pv_session_reset(s);              next scan, same block
+ *
+ * No function allocates on the ingest path (push). estimate() and finish()
+ * use only the block, except the kNN index of adaptive thinning, whose
+ * bounded scratch is documented in docs/memory.md. No exception crosses
+ * this ABI: every failure is a pv_status_t with a name and a message.
+ *
+ * Coordinates are millimetres in the scanner's frame (any pose, any tilt).
+ */
+#ifndef PITVOL_PITVOL_H
+#define PITVOL_PITVOL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PV_VERSION_STRING "0.1.0"
+#define PV_BLOCK_ALIGN 64u
+
+typedef enum pv_status {
+  PV_OK = 0,
+  PV_ERR_INVALID_ARGUMENT = 1,   /* NULL pointer or a value out of range */
+  PV_ERR_INVALID_CONFIG = 2,     /* a configuration field is out of range */
+  PV_ERR_BLOCK_TOO_SMALL = 3,    /* block smaller than pv_session_size() */
+  PV_ERR_BLOCK_MISALIGNED = 4,   /* block not aligned to PV_BLOCK_ALIGN */
+  PV_ERR_WRONG_STATE = 5,        /* e.g. push after finish without reset */
+  PV_ERR_TOO_FEW_POINTS = 6,     /* scan has too few valid points */
+  PV_ERR_NO_BOTTOM_PLANE = 7,    /* no plane found to level the scan */
+  PV_ERR_NO_RIM = 8,             /* rim (top edge) could not be found */
+  PV_ERR_TOO_FEW_LAYERS = 9,     /* too few layers with a usable contour */
+  PV_ERR_DEPTH_EXCEEDS_CAPACITY = 10, /* pit deeper than max_depth_mm */
+  PV_ERR_OUT_OF_MEMORY = 11,     /* bounded finish scratch unavailable */
+  PV_ERR_INTERNAL = 12           /* a bug: please report with the scan */
+} pv_status_t;
+
+/* Short symbolic name ("PV_ERR_NO_RIM") and a sentence for the user that
+ * says what went wrong and what to do. Never NULL. */
+const char *pv_status_name(pv_status_t status);
+const char *pv_status_message(pv_status_t status);
+
+typedef enum pv_method {
+  PV_METHOD_PAPER = 0 /* Han et al., Sensors 2026, 26(10), 3150 */
+} pv_method_t;
+
+/* "paper" <-> PV_METHOD_PAPER. Returns PV_ERR_INVALID_ARGUMENT if unknown. */
+pv_status_t pv_method_from_name(const char *name, pv_method_t *out);
+const char *pv_method_name(pv_method_t method);
+
+typedef struct pv_config {
+  pv_method_t method;
+
+  /* capacities: fixed at init, they size the block */
+  uint32_t max_layers;          /* layer bins; depth range = max_layers*layer_mm */
+  uint32_t points_per_layer;    /* bin capacity; a full bin thins in place */
+  uint32_t level_sample_points; /* order-independent sample for levelling */
+  uint32_t warmup_points;       /* points buffered before the first plane */
+
+  /* Z gridding (paper 3.4) */
+  float layer_mm;               /* 0.5 by default; 0.1 .. 2 allowed */
+
+  /* levelling (paper 3.2, Algorithm 1) */
+  float bottom_band_ratio;      /* beta: bottom candidates within beta*z-range */
+  float plane_tol_ratio;        /* alpha: d_max = alpha * extent */
+  uint32_t ransac_iterations;
+
+  /* rim (paper 3.3) */
+  float rim_band_ratio;         /* top candidates within this share of z-range */
+  uint32_t rim_intervals;       /* X sub-intervals */
+
+  /* adaptive thinning (paper 3.5) */
+  uint32_t knn_k;
+  float thin_base_mm;           /* s0 */
+
+  /* clustering (paper 3.6) */
+  float crescent_range_mm;      /* 50 */
+  float crescent_cross_mm;      /* 80 */
+  float circle_band_mm;         /* 20 */
+  float crescent_relax_mm;      /* 10 */
+
+  /* area sequence cleanup (paper 4.2, Algorithm 2) */
+  uint32_t mad_window_early;    /* 10 */
+  uint32_t mad_window_late;     /* 6 */
+  float mad_k_early;
+  float mad_k_late;
+  float mad_split_mm;           /* 30: late segment = last 30 mm above bottom */
+} pv_config_t;
+
+/* Fills the paper's defaults and the default capacities (docs/method.md). */
+void pv_config_default(pv_config_t *cfg);
+/* PV_OK or PV_ERR_INVALID_CONFIG; if field_out is not NULL it receives the
+ * name of the first offending field. */
+pv_status_t pv_config_validate(const pv_config_t *cfg, const char **field_out);
+
+typedef struct pv_point {
+  float x_mm, y_mm, z_mm;
+} pv_point_t;
+
+/* Warning bits of a result or estimate. */
+#define PV_WARN_POINTS_THINNED   (1u << 0) /* a layer bin overflowed and thinned */
+#define PV_WARN_INVALID_POINTS   (1u << 1) /* NaN/Inf or absurd points skipped */
+#define PV_WARN_OUT_OF_RANGE     (1u << 2) /* points outside the layer range */
+#define PV_WARN_LAYERS_REJECTED  (1u << 3) /* many layers removed by cleanup */
+#define PV_WARN_LARGE_TILT       (1u << 4) /* scan tilted more than 30 deg */
+#define PV_WARN_SPARSE_LAYERS    (1u << 5) /* many layers had too few points */
+
+typedef struct pv_result {
+  pv_status_t status;
+  double volume_cm3;
+  double depth_mm;          /* bottom plane to rim */
+  double tilt_deg;          /* angle of the bottom normal from scanner +Z */
+  double rim_area_mm2;      /* cross-section at the rim */
+  uint32_t layers_used;
+  uint32_t layers_rejected; /* negative/outlier areas and unusable layers */
+  uint64_t points_in;       /* every point pushed */
+  uint64_t points_invalid;  /* NaN/Inf/absurd, skipped */
+  uint64_t points_out_of_range;
+  uint64_t points_stored;   /* held in the bins at the end */
+  uint64_t points_used;     /* kept by thinning + clustering, fed to area fits */
+  uint32_t warnings;        /* PV_WARN_* bits */
+} pv_result_t;
+
+typedef struct pv_session pv_session_t;
+
+/* Bytes of block a configuration needs. */
+pv_status_t pv_session_size(const pv_config_t *cfg, size_t *bytes_out);
+/* Carves the session out of block; *session_out points into block. */
+pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size_t bytes,
+                            pv_session_t **session_out);
+/* Any batch size (0 allowed), any order. Never allocates. */
+pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points,
+                            size_t count);
+/* Volume from what has arrived so far; the session keeps streaming. */
+pv_status_t pv_session_estimate(pv_session_t *s, pv_result_t *out);
+/* Final result. The session accepts no more points until reset. */
+pv_status_t pv_session_finish(pv_session_t *s, pv_result_t *out);
+/* Forget the scan, keep the configuration and the block. */
+pv_status_t pv_session_reset(pv_session_t *s);
+
+/* Per-layer detail of the last estimate/finish, for plots and reports.
+ * Writes at most capacity entries, returns the count in *count_out. */
+typedef struct pv_layer_info {
+  float z_mm;        /* height above the bottom plane */
+  float area_mm2;
+  uint32_t points;   /* points fed to the area fit */
+  uint8_t kept;      /* 0 if removed by cleanup or unusable */
+  uint8_t shape;     /* 0 near-circular, 1 crescent */
+} pv_layer_info_t;
+pv_status_t pv_session_layers(const pv_session_t *s, pv_layer_info_t *out,
+                              size_t capacity, size_t *count_out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* PITVOL_PITVOL_H */

@@ -1,0 +1,62 @@
+#include "levelling/hash_sample.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace pv::levelling {
+
+// Total order: hash first, then the coordinate bits, so equal hashes of
+// different points (astronomically rare) still sort the same way every time.
+static bool entry_less(const SampleEntry &a, const SampleEntry &b) {
+  if (a.hash != b.hash) return a.hash < b.hash;
+  return std::memcmp(&a.p, &b.p, sizeof a.p) < 0;
+}
+
+void HashSample::init(SampleEntry *storage, uint32_t capacity) {
+  heap_ = storage;
+  capacity_ = capacity;
+  size_ = 0;
+}
+
+void HashSample::offer(const P3 &p, uint64_t hash) {
+  const SampleEntry e{hash, p};
+  if (size_ < capacity_) {
+    heap_[size_] = e;
+    sift_up(size_++);
+    return;
+  }
+  if (capacity_ == 0 || !entry_less(e, heap_[0])) return;
+  // An exact duplicate of the largest entry would compare equal: skipped
+  // above. Duplicates of smaller entries may enter; the set stays a
+  // function of the multiset of points pushed.
+  heap_[0] = e;
+  sift_down(0);
+}
+
+void HashSample::sift_up(uint32_t i) {
+  while (i > 0) {
+    const uint32_t parent = (i - 1) / 2;
+    if (!entry_less(heap_[parent], heap_[i])) break;
+    std::swap(heap_[parent], heap_[i]);
+    i = parent;
+  }
+}
+
+void HashSample::sift_down(uint32_t i) {
+  for (;;) {
+    const uint32_t l = 2 * i + 1, r = l + 1;
+    uint32_t big = i;
+    if (l < size_ && entry_less(heap_[big], heap_[l])) big = l;
+    if (r < size_ && entry_less(heap_[big], heap_[r])) big = r;
+    if (big == i) return;
+    std::swap(heap_[big], heap_[i]);
+    i = big;
+  }
+}
+
+void HashSample::canonical(SampleEntry *out) const {
+  std::copy(heap_, heap_ + size_, out);
+  std::sort(out, out + size_, entry_less);
+}
+
+}  // namespace pv::levelling

@@ -1,0 +1,45 @@
+// An order-independent sample of the stream for levelling.
+//
+// Keeps the k points with the smallest point_hash (a bottom-k sketch). The
+// kept set depends only on the set of points pushed, never on their order or
+// batching, so the plane fitted on it is the same for a shuffled scan. The
+// heap order inside depends on arrival order; canonical() sorts it.
+#ifndef PV_LEVELLING_HASH_SAMPLE_H
+#define PV_LEVELLING_HASH_SAMPLE_H
+
+#include <cstddef>
+#include <cstdint>
+
+#include "common/geometry.h"
+
+namespace pv::levelling {
+
+struct SampleEntry {
+  uint64_t hash;
+  P3 p;
+};
+
+class HashSample {
+ public:
+  // storage: caller memory for capacity entries.
+  void init(SampleEntry *storage, uint32_t capacity);
+  void clear() { size_ = 0; }
+  // O(1) when the point is rejected (the common case once the sample is
+  // full), O(log k) when it enters.
+  void offer(const P3 &p, uint64_t hash);
+  uint32_t size() const { return size_; }
+  // Copies the sample into out (capacity() entries) sorted by (hash, bits).
+  void canonical(SampleEntry *out) const;
+  uint32_t capacity() const { return capacity_; }
+
+ private:
+  void sift_down(uint32_t i);
+  void sift_up(uint32_t i);
+  SampleEntry *heap_ = nullptr;  // max-heap on hash
+  uint32_t capacity_ = 0;
+  uint32_t size_ = 0;
+};
+
+}  // namespace pv::levelling
+
+#endif

@@ -1,0 +1,74 @@
+#include "levelling/plane_fit.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "common/point_hash.h"
+
+namespace pv::levelling {
+
+static bool plane_through(const Eigen::Vector3d &a, const Eigen::Vector3d &b,
+                          const Eigen::Vector3d &c, Plane *out) {
+  Eigen::Vector3d n = (b - a).cross(c - a);
+  const double len = n.norm();
+  // Nearly collinear triples give a normal dominated by rounding.
+  if (!(len > 1e-9 * (b - a).squaredNorm() + 1e-12)) return false;
+  n /= len;
+  out->n = n;
+  out->d = -n.dot(a);
+  return true;
+}
+
+uint32_t ransac_plane(const Eigen::Vector3d *pts, size_t n,
+                      const RansacParams &p, Plane *out) {
+  if (n < 3 || n > UINT32_MAX) return 0;
+  SplitMix64 rng{p.seed};
+  const auto count = uint32_t(n);
+  uint32_t best = 0;
+  for (uint32_t it = 0; it < p.iterations; ++it) {
+    const uint32_t i = rng.below(count), j = rng.below(count), k = rng.below(count);
+    if (i == j || j == k || i == k) continue;
+    Plane cand;
+    if (!plane_through(pts[i], pts[j], pts[k], &cand)) continue;
+    uint32_t inliers = 0;
+    for (size_t q = 0; q < n; ++q) {
+      if (std::fabs(cand.distance(pts[q])) <= p.tol_mm) ++inliers;
+    }
+    if (inliers > best) {
+      best = inliers;
+      *out = cand;
+    }
+  }
+  return best;
+}
+
+uint32_t refine_plane(const Eigen::Vector3d *pts, size_t n, double tol_mm,
+                      Plane *plane) {
+  // Two passes (mean, then covariance about the mean) for accuracy with
+  // coordinates far from the origin.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  uint32_t used = 0;
+  for (size_t q = 0; q < n; ++q) {
+    if (std::fabs(plane->distance(pts[q])) <= tol_mm) {
+      mean += pts[q];
+      ++used;
+    }
+  }
+  if (used < 3) return 0;
+  mean /= double(used);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (size_t q = 0; q < n; ++q) {
+    if (std::fabs(plane->distance(pts[q])) <= tol_mm) {
+      const Eigen::Vector3d e = pts[q] - mean;
+      cov += e * e.transpose();
+    }
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  Eigen::Vector3d nrm = es.eigenvectors().col(0);  // smallest eigenvalue
+  if (nrm.dot(plane->n) < 0) nrm = -nrm;            // keep the orientation
+  plane->n = nrm;
+  plane->d = -nrm.dot(mean);
+  return used;
+}
+
+}  // namespace pv::levelling

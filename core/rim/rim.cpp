@@ -1,0 +1,95 @@
+#include "rim/rim.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pv::rim {
+
+namespace {
+
+double median_of(double *v, size_t n) {
+  std::nth_element(v, v + n / 2, v + n);
+  return v[n / 2];
+}
+
+}  // namespace
+
+Ground detect_ground(const Eigen::Vector3d *pts, size_t n, const Params &p,
+                     double *scratch) {
+  Ground g;
+  if (n < 16) return g;
+  for (size_t i = 0; i < n; ++i) scratch[i] = pts[i].z();
+  const size_t k = size_t(0.999 * double(n - 1));
+  std::nth_element(scratch, scratch + k, scratch + n);
+  const double z_hi = scratch[k];
+  const double z_from = z_hi - p.band_ratio * z_hi;
+
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (pts[i].z() >= z_from) scratch[m++] = pts[i].z();
+  }
+  if (m < 16) return g;
+  std::sort(scratch, scratch + m);
+  // Densest window of peak_window_mm: two pointers over the sorted heights.
+  size_t best_lo = 0, best_count = 0;
+  for (size_t lo = 0, hi = 0; lo < m; ++lo) {
+    while (hi < m && scratch[hi] - scratch[lo] <= p.peak_window_mm) ++hi;
+    if (hi - lo > best_count) {
+      best_count = hi - lo;
+      best_lo = lo;
+    }
+  }
+  if (double(best_count) < p.ground_share * double(m)) return g;
+  g.found = true;
+  g.points = uint32_t(best_count);
+  g.z_mm = scratch[best_lo + best_count / 2];  // median of the peak
+  return g;
+}
+
+double wall_top_mm(const double *weight, const gridding::Grid &grid,
+                   double *scratch) {
+  const uint32_t first = grid.below + uint32_t(std::ceil(5.0 / grid.layer_mm));
+  int64_t last = -1;
+  for (uint32_t j = grid.layers; j-- > first;) {
+    if (weight[j] > 0) {
+      last = j;
+      break;
+    }
+  }
+  if (last < int64_t(first) + 8) return -1.0;
+  size_t m = 0;
+  for (uint32_t j = first; j <= uint32_t(last); ++j) scratch[m++] = weight[j];
+  const double typical = median_of(scratch, m);
+  if (!(typical > 0)) return -1.0;
+
+  // Highest layer that, with the 3 below it, carries at least half the
+  // typical wall weight: isolated strays above the rim do not qualify.
+  int64_t top = -1;
+  for (int64_t j = last; j >= int64_t(first) + 3; --j) {
+    bool wall = true;
+    for (int64_t q = j - 3; q <= j; ++q) wall = wall && weight[q] >= 0.5 * typical;
+    if (wall) {
+      top = j;
+      break;
+    }
+  }
+  if (top < 0) return -1.0;
+  // Local weight of a full layer: mean of the 5 layers below the top.
+  double local = 0;
+  int64_t nloc = 0;
+  for (int64_t q = top - 5; q < top; ++q) {
+    if (q >= int64_t(first)) {
+      local += weight[q];
+      ++nloc;
+    }
+  }
+  local = nloc > 0 ? local / double(nloc) : typical;
+  // Occupied fraction of the top layer and of the one above it.
+  double filled = std::min(1.0, weight[top] / local);
+  if (uint32_t(top) + 1 < grid.layers) {
+    filled += std::min(1.0, weight[top + 1] / local);
+  }
+  return grid.z_of(uint32_t(top)) - 0.5 * grid.layer_mm + filled * grid.layer_mm;
+}
+
+}  // namespace pv::rim

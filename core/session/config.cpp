@@ -1,0 +1,82 @@
+// Configuration defaults (the paper's values where it gives them) and
+// validation. docs/method.md explains every value.
+#include <cmath>
+#include <cstring>
+
+#include "pitvol/pitvol.h"
+
+extern "C" void pv_config_default(pv_config_t *cfg) {
+  if (cfg == nullptr) return;
+  std::memset(cfg, 0, sizeof *cfg);
+  cfg->method = PV_METHOD_PAPER;
+  cfg->max_layers = 1280;          // 640 mm of depth at 0.5 mm
+  cfg->points_per_layer = 1024;
+  cfg->level_sample_points = 8192;
+  cfg->warmup_points = 32768;
+  cfg->layer_mm = 0.5f;
+  cfg->bottom_band_ratio = 0.05f;  // paper: beta = 5 %
+  cfg->plane_tol_ratio = 0.005f;   // alpha (not given by the paper)
+  cfg->ransac_iterations = 256;
+  cfg->rim_band_ratio = 0.2f;      // paper: top 20 %
+  cfg->rim_intervals = 24;
+  cfg->knn_k = 8;
+  cfg->thin_base_mm = 1.0f;
+  cfg->crescent_range_mm = 50.0f;  // paper 3.6
+  cfg->crescent_cross_mm = 80.0f;
+  cfg->circle_band_mm = 20.0f;
+  cfg->crescent_relax_mm = 10.0f;
+  cfg->mad_window_early = 10;      // paper 4.2
+  cfg->mad_window_late = 6;
+  cfg->mad_k_early = 5.0f;
+  cfg->mad_k_late = 3.0f;
+  cfg->mad_split_mm = 30.0f;
+}
+
+namespace {
+
+bool in_range(float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+
+}  // namespace
+
+extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **field_out) {
+  const char *bad = nullptr;
+  if (cfg == nullptr) return PV_ERR_INVALID_ARGUMENT;
+  if (cfg->method != PV_METHOD_PAPER) bad = "method";
+  else if (cfg->max_layers < 64 || cfg->max_layers > 65536) bad = "max_layers";
+  else if (cfg->points_per_layer < 64 || cfg->points_per_layer > (1u << 20)) bad = "points_per_layer";
+  else if (uint64_t(cfg->max_layers) * cfg->points_per_layer > (1ull << 31)) bad = "points_per_layer";
+  else if (cfg->level_sample_points < 256 || cfg->level_sample_points > (1u << 20)) bad = "level_sample_points";
+  else if (cfg->warmup_points < 256 || cfg->warmup_points > (1u << 24)) bad = "warmup_points";
+  else if (!in_range(cfg->layer_mm, 0.1f, 2.0f)) bad = "layer_mm";
+  else if (!in_range(cfg->bottom_band_ratio, 0.005f, 0.5f)) bad = "bottom_band_ratio";
+  else if (!in_range(cfg->plane_tol_ratio, 0.0001f, 0.1f)) bad = "plane_tol_ratio";
+  else if (cfg->ransac_iterations < 16 || cfg->ransac_iterations > 100000) bad = "ransac_iterations";
+  else if (!in_range(cfg->rim_band_ratio, 0.02f, 0.8f)) bad = "rim_band_ratio";
+  else if (cfg->rim_intervals < 4 || cfg->rim_intervals > 1024) bad = "rim_intervals";
+  else if (cfg->knn_k < 2 || cfg->knn_k > 32) bad = "knn_k";
+  else if (!in_range(cfg->thin_base_mm, 0.01f, 50.0f)) bad = "thin_base_mm";
+  else if (!in_range(cfg->crescent_range_mm, 1.0f, 1000.0f)) bad = "crescent_range_mm";
+  else if (!in_range(cfg->crescent_cross_mm, 1.0f, 1000.0f)) bad = "crescent_cross_mm";
+  else if (!in_range(cfg->circle_band_mm, 0.5f, 1000.0f)) bad = "circle_band_mm";
+  else if (!in_range(cfg->crescent_relax_mm, 0.0f, 1000.0f)) bad = "crescent_relax_mm";
+  else if (cfg->mad_window_early < 3 || cfg->mad_window_early > 256) bad = "mad_window_early";
+  else if (cfg->mad_window_late < 3 || cfg->mad_window_late > 256) bad = "mad_window_late";
+  else if (!in_range(cfg->mad_k_early, 0.5f, 100.0f)) bad = "mad_k_early";
+  else if (!in_range(cfg->mad_k_late, 0.5f, 100.0f)) bad = "mad_k_late";
+  else if (!in_range(cfg->mad_split_mm, 0.0f, 1000.0f)) bad = "mad_split_mm";
+  if (field_out != nullptr) *field_out = bad;
+  return bad == nullptr ? PV_OK : PV_ERR_INVALID_CONFIG;
+}
+
+extern "C" pv_status_t pv_method_from_name(const char *name, pv_method_t *out) {
+  if (name == nullptr || out == nullptr) return PV_ERR_INVALID_ARGUMENT;
+  if (std::strcmp(name, "paper") == 0) {
+    *out = PV_METHOD_PAPER;
+    return PV_OK;
+  }
+  return PV_ERR_INVALID_ARGUMENT;
+}
+
+extern "C" const char *pv_method_name(pv_method_t method) {
+  return method == PV_METHOD_PAPER ? "paper" : "unknown";
+}

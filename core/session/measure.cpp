@@ -1,0 +1,249 @@
+// estimate() and finish(): from the bins to a volume, stage by stage.
+//
+//  1. final levelling transform from the order-independent sample
+//  2. every stored point re-assigned to its final layer (counting sort)
+//  3. rim height: ground peak, else the wall top
+//  4. per usable layer: adaptive thinning -> clustering -> area fit
+//  5. MAD cleanup of the area sequence
+//  6. Simpson + frustum between the exact limits 0 and the rim
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "clustering/clustering.h"
+#include "common/point_hash.h"
+#include "rim/rim.h"
+#include "session/session_impl.h"
+
+namespace pv::session {
+
+namespace {
+
+// Layers closer than this to the bottom plane or to the rim hold points of
+// the floor or the ground, not of the wall contour; their area comes from
+// the extrapolation of the wall layers next to them (volume::Limits).
+constexpr double kEndGuardMm = 1.5;
+// A contour needs this many points after clustering to be fitted.
+constexpr uint32_t kMinContourPoints = 32;
+constexpr uint32_t kMinUsableLayers = 12;
+constexpr uint64_t kMinPoints = 1000;
+
+pv_status_t final_transform(pv_session *s, levelling::Transform *t) {
+  s->sample.canonical(s->sample_sorted);
+  const uint32_t n = s->sample.size();
+  for (uint32_t i = 0; i < n; ++i) s->sample_points[i] = s->sample_sorted[i].p;
+  levelling::Params lp;
+  lp.bottom_band_ratio = s->cfg.bottom_band_ratio;
+  lp.plane_tol_ratio = s->cfg.plane_tol_ratio;
+  lp.ransac_iterations = s->cfg.ransac_iterations;
+  levelling::Report rep;
+  switch (levelling::estimate(s->sample_points, n, lp, s->lv, t, &rep)) {
+    case levelling::Status::Ok: return PV_OK;
+    case levelling::Status::TooFewPoints: return PV_ERR_TOO_FEW_POINTS;
+    case levelling::Status::NoPlane: return PV_ERR_NO_BOTTOM_PLANE;
+  }
+  return PV_ERR_INTERNAL;
+}
+
+// Counting sort of all stored points by final layer into s->order.
+// Returns the number of stored points outside the grid under t.
+uint64_t assign_layers(pv_session *s, const levelling::Transform &t) {
+  const uint32_t L = s->grid.layers;
+  std::memset(s->layer_start, 0, (L + 1) * sizeof(uint32_t));
+  std::fill(s->layer_weight, s->layer_weight + L, 0.0);
+  uint64_t outside = 0;
+  const uint32_t cap = s->bins.capacity();
+  for (uint32_t b = 0; b < L; ++b) {
+    const P3 *pts = s->bins.points(b);
+    const double w = std::ldexp(1.0, s->bins.level(b));  // points each one stands for
+    for (uint32_t i = 0; i < s->bins.count(b); ++i) {
+      const int64_t j = s->grid.layer_of(t.level_z(pts[i]));
+      if (j < 0) {
+        ++outside;
+        continue;
+      }
+      ++s->layer_start[j + 1];
+      s->layer_weight[j] += w;
+    }
+  }
+  for (uint32_t j = 0; j < L; ++j) s->layer_start[j + 1] += s->layer_start[j];
+  // Second pass places slot ids; layer_start[j] advances to the end of j,
+  // so shift back afterwards.
+  for (uint32_t b = 0; b < L; ++b) {
+    const P3 *pts = s->bins.points(b);
+    for (uint32_t i = 0; i < s->bins.count(b); ++i) {
+      const int64_t j = s->grid.layer_of(t.level_z(pts[i]));
+      if (j >= 0) s->order[s->layer_start[j]++] = b * cap + i;
+    }
+  }
+  for (uint32_t j = L; j > 0; --j) s->layer_start[j] = s->layer_start[j - 1];
+  s->layer_start[0] = 0;
+  return outside;
+}
+
+// Levelled XY of the points of final layer j, at most the work capacity.
+// A layer with more points keeps those passing the lowest sufficient hash
+// level: a deterministic, order-independent subset.
+size_t gather_layer(pv_session *s, const levelling::Transform &t, uint32_t j) {
+  const uint32_t from = s->layer_start[j], to = s->layer_start[j + 1];
+  const size_t cap = layer_work_capacity(s->cfg);
+  const P3 *slots = s->bins.points(0);  // order[] holds global slot ids
+  uint8_t level = 0;
+  for (;; ++level) {
+    size_t n = 0;
+    for (uint32_t q = from; q < to; ++q) {
+      const P3 &p = slots[s->order[q]];
+      if (level > 0 && !binning::LayerBins::passes(point_hash(p), level)) continue;
+      if (n == cap) break;
+      const Eigen::Vector3d v = t.apply(p);
+      s->layer_pts[n++] = XY{v.x(), v.y()};
+    }
+    if (n < cap || level == 63) return n;
+  }
+}
+
+struct LayerOutcome {
+  bool usable;
+  double area_mm2;
+  uint32_t points;
+  uint8_t shape;
+};
+
+LayerOutcome process_layer(pv_session *s, size_t n) {
+  LayerOutcome o{false, 0.0, 0, 0};
+  thinning::Params tp;
+  tp.knn_k = s->cfg.knn_k;
+  tp.s0_mm = s->cfg.thin_base_mm;
+  n = thinning::thin_layer(s->layer_pts, n, tp, s->thin_ws);
+
+  clustering::Params cp;
+  cp.crescent_range_mm = s->cfg.crescent_range_mm;
+  cp.crescent_cross_mm = s->cfg.crescent_cross_mm;
+  cp.circle_band_mm = s->cfg.circle_band_mm;
+  cp.crescent_relax_mm = s->cfg.crescent_relax_mm;
+  clustering::Info info;
+  n = clustering::cluster_layer(s->layer_pts, n, cp, s->cluster_scratch, s->cluster_scratch_cap,
+                                &info);
+  o.shape = uint8_t(info.shape);
+  o.points = uint32_t(n);
+  if (n < kMinContourPoints) return o;
+
+  area::Result ar;
+  if (!area::fit_area(s->layer_pts, n, area::Params{}, s->area_scratch, s->area_scratch_cap, &ar)) {
+    return o;
+  }
+  o.usable = std::isfinite(ar.area_mm2);
+  o.area_mm2 = ar.area_mm2;
+  return o;
+}
+
+double rim_height(pv_session *s, const levelling::Transform &t, bool *ground) {
+  const uint32_t n = s->sample.size();
+  for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t.apply(s->sample_points[i]);
+  rim::Params rp;
+  rp.band_ratio = s->cfg.rim_band_ratio;
+  const rim::Ground g = rim::detect_ground(s->lv.a, n, rp, s->lv.v);
+  *ground = g.found;
+  if (g.found) return g.z_mm;
+  return rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
+}
+
+}  // namespace
+
+pv_status_t measure(pv_session *s, pv_result_t *out) {
+  std::memset(out, 0, sizeof *out);
+  establish_transform(s);
+  out->points_in = s->points_in;
+  out->points_invalid = s->points_invalid;
+  s->layer_info_count = 0;
+  if (s->points_invalid > 0) out->warnings |= PV_WARN_INVALID_POINTS;
+  if (s->bins.thinned() > 0) out->warnings |= PV_WARN_POINTS_THINNED;
+
+  auto fail = [out](pv_status_t st) {
+    out->status = st;
+    return st;
+  };
+  if (s->points_in - s->points_invalid < kMinPoints) return fail(PV_ERR_TOO_FEW_POINTS);
+
+  levelling::Transform t;
+  const pv_status_t st = final_transform(s, &t);
+  if (st != PV_OK) return fail(st);
+  out->tilt_deg = t.tilt_deg();
+  if (out->tilt_deg > 30.0 && out->tilt_deg < 150.0) out->warnings |= PV_WARN_LARGE_TILT;
+
+  const uint64_t outside = assign_layers(s, t);
+  out->points_out_of_range = s->points_out_of_range + outside;
+  out->points_stored = s->bins.stored() - outside;
+  if (out->points_out_of_range * 100 > s->points_in) out->warnings |= PV_WARN_OUT_OF_RANGE;
+
+  bool ground = false;
+  const double rim_mm = rim_height(s, t, &ground);
+  if (!(rim_mm > 4 * kEndGuardMm)) return fail(PV_ERR_NO_RIM);
+  if (rim_mm > s->grid.top_mm() - 2 * kEndGuardMm) return fail(PV_ERR_DEPTH_EXCEEDS_CAPACITY);
+  out->depth_mm = rim_mm;
+
+  // Per-layer areas of the usable band [guard, rim - guard].
+  size_t m = 0;
+  uint32_t unusable = 0;
+  uint64_t used_points = 0;
+  for (uint32_t j = 0; j < s->grid.layers; ++j) {
+    const double z = s->grid.z_of(j);
+    if (z < kEndGuardMm || z > rim_mm - kEndGuardMm) continue;
+    const size_t n = gather_layer(s, t, j);
+    const LayerOutcome o = process_layer(s, n);
+    pv_layer_info_t &li = s->layer_info[s->layer_info_count++];
+    li = pv_layer_info_t{float(z), float(o.area_mm2), o.points, 0, o.shape};
+    if (!o.usable) {
+      ++unusable;
+      continue;
+    }
+    s->seq_z[m] = z;
+    s->seq_area[m] = o.area_mm2;
+    ++m;
+    used_points += o.points;
+  }
+  if (unusable * 10 > s->layer_info_count) out->warnings |= PV_WARN_SPARSE_LAYERS;
+
+  cleanup::Params mp;
+  mp.window_early = s->cfg.mad_window_early;
+  mp.window_late = s->cfg.mad_window_late;
+  mp.k_early = s->cfg.mad_k_early;
+  mp.k_late = s->cfg.mad_k_late;
+  mp.split_mm = s->cfg.mad_split_mm;
+  const size_t kept = m == 0 ? 0 : cleanup::mad_filter(s->seq_z, s->seq_area, m, mp, s->seq_keep,
+                                                       s->seq_scratch, s->seq_scratch_cap);
+  // Compact the kept layers in place and mark them in the layer detail.
+  size_t w = 0;
+  for (size_t i = 0; i < m; ++i) {
+    if (!s->seq_keep[i]) continue;
+    s->seq_z[w] = s->seq_z[i];
+    s->seq_area[w] = s->seq_area[i];
+    ++w;
+  }
+  for (uint32_t i = 0, q = 0; i < s->layer_info_count && q < w; ++i) {
+    if (double(s->layer_info[i].z_mm) == double(float(s->seq_z[q]))) {
+      s->layer_info[i].kept = 1;
+      ++q;
+    }
+  }
+  out->layers_used = uint32_t(kept);
+  out->layers_rejected = uint32_t(s->layer_info_count - kept);
+  out->points_used = used_points;
+  if ((m - kept) * 20 > m) out->warnings |= PV_WARN_LAYERS_REJECTED;
+  if (kept < kMinUsableLayers) return fail(PV_ERR_TOO_FEW_LAYERS);
+
+  volume::Limits lim;
+  lim.z_bottom_mm = 0.0;
+  lim.z_rim_mm = rim_mm;
+  double v_mm3 = 0;
+  if (!volume::volume_between_mm3(s->seq_z, s->seq_area, kept, lim, s->seq_scratch,
+                                  s->seq_scratch_cap, &v_mm3)) {
+    return fail(PV_ERR_INTERNAL);
+  }
+  out->volume_cm3 = v_mm3 / 1000.0;
+  out->rim_area_mm2 = s->seq_area[kept - 1];
+  out->status = PV_OK;
+  return PV_OK;
+}
+
+}  // namespace pv::session

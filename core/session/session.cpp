@@ -1,0 +1,227 @@
+// The C ABI of the core: session lifecycle and the ingest path.
+//
+// push() is the hot path: per point a validity check, a hash, a sample
+// offer, a levelled height and a bin insert. It never allocates; the plane
+// refinement it triggers now and then works in preallocated scratch.
+#include <cmath>
+#include <cstring>
+#include <new>
+
+#include "common/point_hash.h"
+#include "session/session_impl.h"
+
+namespace pv::session {
+
+namespace {
+
+constexpr float kAbsurdMm = 1.0e6f;  // a kilometre: no scanner sees that far
+
+bool valid_point(const pv_point_t &p) {
+  return std::isfinite(p.x_mm) && std::isfinite(p.y_mm) && std::isfinite(p.z_mm) &&
+         std::fabs(p.x_mm) < kAbsurdMm && std::fabs(p.y_mm) < kAbsurdMm &&
+         std::fabs(p.z_mm) < kAbsurdMm;
+}
+
+levelling::Params level_params(const pv_config_t &c) {
+  levelling::Params p;
+  p.bottom_band_ratio = c.bottom_band_ratio;
+  p.plane_tol_ratio = c.plane_tol_ratio;
+  p.ransac_iterations = c.ransac_iterations;
+  return p;
+}
+
+void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
+  const int64_t j = s->grid.layer_of(s->provisional.level_z(p));
+  if (j < 0) {
+    ++s->points_out_of_range;
+    return;
+  }
+  s->bins.insert(uint32_t(j), p, hash);
+}
+
+// Re-estimates the provisional plane from the sample. Later points are
+// binned with it; points already binned are re-assigned at finish.
+void refine(pv_session *s) {
+  s->sample.canonical(s->sample_sorted);
+  const uint32_t n = s->sample.size();
+  for (uint32_t i = 0; i < n; ++i) s->sample_points[i] = s->sample_sorted[i].p;
+  levelling::Transform t;
+  levelling::Report rep;
+  if (levelling::estimate(s->sample_points, n, level_params(s->cfg), s->lv, &t, &rep) ==
+      levelling::Status::Ok) {
+    s->provisional = t;
+  }
+  // On failure keep the previous transform (identity at first): binning
+  // still works, only the bins' thinning is less even until the next try.
+  s->have_transform = true;
+  s->next_refine_at = s->points_in * 4;
+}
+
+}  // namespace
+
+void establish_transform(pv_session *s) {
+  if (s->have_transform) return;
+  refine(s);
+  for (uint32_t i = 0; i < s->warmup_count; ++i) {
+    bin_point(s, s->warmup[i], point_hash(s->warmup[i]));
+  }
+  s->warmup_count = 0;
+}
+
+size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
+  Carver cv(block);
+  const uint32_t layers = c.max_layers;
+  const uint32_t work = layer_work_capacity(c);
+  const uint32_t k = c.level_sample_points;
+  pv_session tmp{};
+  pv_session *o = s ? s : &tmp;
+
+  o->sample.init(cv.take<levelling::SampleEntry>(k), k);
+  o->sample_sorted = cv.take<levelling::SampleEntry>(k);
+  o->sample_points = cv.take<P3>(k);
+  o->lv.a = cv.take<Eigen::Vector3d>(k);
+  o->lv.b = cv.take<Eigen::Vector3d>(k);
+  o->lv.c = cv.take<Eigen::Vector3d>(k);
+  o->lv.v = cv.take<double>(k);
+  o->warmup = cv.take<P3>(c.warmup_points);
+
+  void *bins_mem = cv.take<unsigned char>(binning::LayerBins::bytes_needed(layers, c.points_per_layer));
+  if (block != nullptr) o->bins.init(bins_mem, layers, c.points_per_layer);
+
+  o->order = cv.take<uint32_t>(size_t(layers) * c.points_per_layer);
+  o->layer_start = cv.take<uint32_t>(layers + 1);
+  o->layer_weight = cv.take<double>(layers);
+  o->layer_pts = cv.take<XY>(work);
+  const size_t thin_bytes = thinning::workspace_bytes(work);
+  void *thin_mem = cv.take<unsigned char>(thin_bytes);
+  if (block != nullptr) thinning::make_workspace(thin_mem, thin_bytes, work, &o->thin_ws);
+  o->cluster_scratch_cap = work;
+  o->cluster_scratch = cv.take<double>(work);
+  o->area_scratch_cap = area_scratch_points(work);
+  o->area_scratch = cv.take<XY>(o->area_scratch_cap);
+  o->seq_z = cv.take<double>(layers);
+  o->seq_area = cv.take<double>(layers);
+  o->seq_keep = cv.take<uint8_t>(layers);
+  o->seq_scratch_cap = sequence_scratch_doubles(layers);
+  o->seq_scratch = cv.take<double>(o->seq_scratch_cap);
+  o->layer_info = cv.take<pv_layer_info_t>(layers);
+  return cv.used();
+}
+
+}  // namespace pv::session
+
+using namespace pv;
+
+namespace {
+
+void reset_counters(pv_session *s) {
+  s->finished = false;
+  s->points_in = s->points_invalid = s->points_out_of_range = 0;
+  s->sample.clear();
+  s->provisional = levelling::Transform{};
+  s->have_transform = false;
+  s->next_refine_at = 0;
+  s->warmup_count = 0;
+  s->bins.clear();
+  s->layer_info_count = 0;
+}
+
+}  // namespace
+
+extern "C" pv_status_t pv_session_size(const pv_config_t *cfg, size_t *bytes_out) {
+  if (cfg == nullptr || bytes_out == nullptr) return PV_ERR_INVALID_ARGUMENT;
+  if (pv_config_validate(cfg, nullptr) != PV_OK) return PV_ERR_INVALID_CONFIG;
+  *bytes_out = PV_BLOCK_ALIGN * ((sizeof(pv_session) + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN) +
+               session::layout(*cfg, nullptr, nullptr);
+  return PV_OK;
+}
+
+extern "C" pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size_t bytes,
+                                       pv_session_t **session_out) {
+  if (cfg == nullptr || block == nullptr || session_out == nullptr) return PV_ERR_INVALID_ARGUMENT;
+  size_t need = 0;
+  const pv_status_t st = pv_session_size(cfg, &need);
+  if (st != PV_OK) return st;
+  if (bytes < need) return PV_ERR_BLOCK_TOO_SMALL;
+  if (reinterpret_cast<uintptr_t>(block) % PV_BLOCK_ALIGN != 0) return PV_ERR_BLOCK_MISALIGNED;
+  auto *base = static_cast<unsigned char *>(block);
+  auto *s = new (base) pv_session{};  // placement: no allocation
+  s->cfg = *cfg;
+  s->grid.layer_mm = cfg->layer_mm;
+  s->grid.layers = cfg->max_layers;
+  s->grid.below = gridding::layers_below(cfg->layer_mm);
+  const size_t head = PV_BLOCK_ALIGN * ((sizeof(pv_session) + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN);
+  session::layout(*cfg, base + head, s);
+  reset_counters(s);
+  *session_out = s;
+  return PV_OK;
+}
+
+extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points, size_t count) {
+  if (s == nullptr || (points == nullptr && count > 0)) return PV_ERR_INVALID_ARGUMENT;
+  if (s->finished) return PV_ERR_WRONG_STATE;
+  for (size_t i = 0; i < count; ++i) {
+    const pv_point_t &q = points[i];
+    ++s->points_in;
+    if (!session::valid_point(q)) {
+      ++s->points_invalid;
+      continue;
+    }
+    const P3 p{q.x_mm, q.y_mm, q.z_mm};
+    const uint64_t h = point_hash(p);
+    s->sample.offer(p, h);
+    if (!s->have_transform) {
+      s->warmup[s->warmup_count++] = p;
+      if (s->warmup_count == s->cfg.warmup_points) session::establish_transform(s);
+      continue;
+    }
+    session::bin_point(s, p, h);
+    if (s->points_in >= s->next_refine_at) session::refine(s);
+  }
+  return PV_OK;
+}
+
+namespace {
+
+pv_status_t guarded_measure(pv_session *s, pv_result_t *out) {
+  try {
+    return session::measure(s, out);
+  } catch (const std::bad_alloc &) {
+    return PV_ERR_OUT_OF_MEMORY;
+  } catch (...) {
+    return PV_ERR_INTERNAL;
+  }
+}
+
+}  // namespace
+
+extern "C" pv_status_t pv_session_estimate(pv_session_t *s, pv_result_t *out) {
+  if (s == nullptr || out == nullptr) return PV_ERR_INVALID_ARGUMENT;
+  if (s->finished) return PV_ERR_WRONG_STATE;
+  return guarded_measure(s, out);
+}
+
+extern "C" pv_status_t pv_session_finish(pv_session_t *s, pv_result_t *out) {
+  if (s == nullptr || out == nullptr) return PV_ERR_INVALID_ARGUMENT;
+  if (s->finished) return PV_ERR_WRONG_STATE;
+  const pv_status_t st = guarded_measure(s, out);
+  s->finished = true;
+  return st;
+}
+
+extern "C" pv_status_t pv_session_reset(pv_session_t *s) {
+  if (s == nullptr) return PV_ERR_INVALID_ARGUMENT;
+  reset_counters(s);
+  return PV_OK;
+}
+
+extern "C" pv_status_t pv_session_layers(const pv_session_t *s, pv_layer_info_t *out,
+                                         size_t capacity, size_t *count_out) {
+  if (s == nullptr || count_out == nullptr || (out == nullptr && capacity > 0)) {
+    return PV_ERR_INVALID_ARGUMENT;
+  }
+  const size_t n = s->layer_info_count < capacity ? s->layer_info_count : capacity;
+  if (n > 0) std::memcpy(out, s->layer_info, n * sizeof *out);
+  *count_out = n;
+  return PV_OK;
+}

@@ -1,0 +1,110 @@
+// The session object and its memory layout. Private to core/session.
+#ifndef PV_SESSION_SESSION_IMPL_H
+#define PV_SESSION_SESSION_IMPL_H
+
+#include <cstddef>
+#include <cstdint>
+
+#include "binning/layer_bins.h"
+#include "common/geometry.h"
+#include "gridding/gridding.h"
+#include "levelling/hash_sample.h"
+#include "levelling/levelling.h"
+#include "pitvol/pitvol.h"
+#include "area/area_fit.h"
+#include "cleanup/mad_filter.h"
+#include "thinning/adaptive_thinning.h"
+#include "volume/volume.h"
+
+namespace pv::session {
+
+// Carves aligned regions out of the block in a fixed order. With a null
+// base it only counts, which is how pv_session_size() is computed: the size
+// and the layout cannot disagree.
+class Carver {
+ public:
+  explicit Carver(unsigned char *base) : base_(base) {}
+  template <class T>
+  T *take(size_t count) {
+    offset_ = (offset_ + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN;
+    T *p = base_ ? reinterpret_cast<T *>(base_ + offset_) : nullptr;
+    offset_ += count * sizeof(T);
+    return p;
+  }
+  size_t used() const { return offset_; }
+
+ private:
+  unsigned char *base_;
+  size_t offset_ = 0;
+};
+
+// Points one final layer may hold when it is processed (twice a bin: a
+// final layer can draw on two provisional bins when the plane moved).
+inline uint32_t layer_work_capacity(const pv_config_t &c) { return 2 * c.points_per_layer; }
+
+inline size_t area_scratch_points(size_t work) { return area::scratch_needed(work); }
+
+// The area sequence scratch serves both the MAD filter and the integration.
+inline size_t sequence_scratch_doubles(size_t layers) {
+  const size_t a = cleanup::scratch_needed(layers);
+  const size_t b = volume::scratch_needed_between(layers);
+  return a > b ? a : b;
+}
+
+}  // namespace pv::session
+
+struct pv_session {
+  pv_config_t cfg;
+  bool finished;
+
+  uint64_t points_in;
+  uint64_t points_invalid;
+  uint64_t points_out_of_range;
+
+  // Levelling: order-independent sample, provisional transform.
+  pv::levelling::HashSample sample;
+  pv::levelling::SampleEntry *sample_sorted;
+  pv::P3 *sample_points;
+  pv::levelling::Scratch lv;
+  pv::levelling::Transform provisional;
+  bool have_transform;
+  uint64_t next_refine_at;
+
+  // Points that arrived before the first plane.
+  pv::P3 *warmup;
+  uint32_t warmup_count;
+
+  pv::gridding::Grid grid;
+  pv::binning::LayerBins bins;
+
+  // Finish-time scratch (bounded, inside the block).
+  uint32_t *order;        // slot ids sorted by final layer
+  uint32_t *layer_start;  // layers + 1
+  double *layer_weight;   // layers
+  pv::XY *layer_pts;      // layer_work_capacity
+  pv::thinning::Workspace thin_ws;
+  double *cluster_scratch;
+  size_t cluster_scratch_cap;
+  pv::XY *area_scratch;
+  size_t area_scratch_cap;
+  double *seq_z;          // layers
+  double *seq_area;       // layers
+  uint8_t *seq_keep;      // layers
+  double *seq_scratch;
+  size_t seq_scratch_cap;
+  pv_layer_info_t *layer_info;  // layers
+  uint32_t layer_info_count;
+};
+
+namespace pv::session {
+
+// Lays the session out in block (or counts bytes when block is null).
+size_t layout(const pv_config_t &cfg, unsigned char *block, pv_session *s);
+// Makes sure a transform exists and the warm-up points are binned.
+void establish_transform(pv_session *s);
+// estimate() and finish() share this; it reads the bins, writes scratch.
+pv_status_t measure(pv_session *s, pv_result_t *out);
+
+}  // namespace pv::session
+
+#endif

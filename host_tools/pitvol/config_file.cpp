@@ -1,0 +1,109 @@
+#include "config_file.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+namespace pv::tools {
+
+namespace {
+
+struct Field {
+  const char *name;
+  float pv_config_t::*f;
+  uint32_t pv_config_t::*u;
+};
+
+// Every tunable field, by the name docs/method.md uses.
+const Field kFields[] = {
+    {"max_layers", nullptr, &pv_config_t::max_layers},
+    {"points_per_layer", nullptr, &pv_config_t::points_per_layer},
+    {"level_sample_points", nullptr, &pv_config_t::level_sample_points},
+    {"warmup_points", nullptr, &pv_config_t::warmup_points},
+    {"layer_mm", &pv_config_t::layer_mm, nullptr},
+    {"bottom_band_ratio", &pv_config_t::bottom_band_ratio, nullptr},
+    {"plane_tol_ratio", &pv_config_t::plane_tol_ratio, nullptr},
+    {"ransac_iterations", nullptr, &pv_config_t::ransac_iterations},
+    {"rim_band_ratio", &pv_config_t::rim_band_ratio, nullptr},
+    {"rim_intervals", nullptr, &pv_config_t::rim_intervals},
+    {"knn_k", nullptr, &pv_config_t::knn_k},
+    {"thin_base_mm", &pv_config_t::thin_base_mm, nullptr},
+    {"crescent_range_mm", &pv_config_t::crescent_range_mm, nullptr},
+    {"crescent_cross_mm", &pv_config_t::crescent_cross_mm, nullptr},
+    {"circle_band_mm", &pv_config_t::circle_band_mm, nullptr},
+    {"crescent_relax_mm", &pv_config_t::crescent_relax_mm, nullptr},
+    {"mad_window_early", nullptr, &pv_config_t::mad_window_early},
+    {"mad_window_late", nullptr, &pv_config_t::mad_window_late},
+    {"mad_k_early", &pv_config_t::mad_k_early, nullptr},
+    {"mad_k_late", &pv_config_t::mad_k_late, nullptr},
+    {"mad_split_mm", &pv_config_t::mad_split_mm, nullptr},
+};
+
+std::string trim(const std::string &s) {
+  const size_t a = s.find_first_not_of(" \t\r");
+  if (a == std::string::npos) return "";
+  const size_t b = s.find_last_not_of(" \t\r");
+  return s.substr(a, b - a + 1);
+}
+
+}  // namespace
+
+bool load_config_file(const std::string &path, pv_config_t *cfg, std::string *error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = path + ": cannot open the configuration file";
+    return false;
+  }
+  std::string line;
+  int lineno = 0;
+  auto fail = [&](const std::string &what) {
+    *error = path + ":" + std::to_string(lineno) + ": " + what;
+    return false;
+  };
+  while (std::getline(in, line)) {
+    ++lineno;
+    const size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    line = trim(line);
+    if (line.empty()) continue;
+    const size_t eq = line.find('=');
+    if (eq == std::string::npos) return fail("expected 'key = value'");
+    const std::string key = trim(line.substr(0, eq));
+    const std::string val = trim(line.substr(eq + 1));
+    if (key == "method") {
+      if (pv_method_from_name(val.c_str(), &cfg->method) != PV_OK) {
+        return fail("unknown method '" + val + "' (known: paper)");
+      }
+      continue;
+    }
+    const Field *f = nullptr;
+    for (const Field &c : kFields) {
+      if (key == c.name) f = &c;
+    }
+    if (f == nullptr) return fail("unknown setting '" + key + "' (see docs/method.md)");
+    errno = 0;
+    char *end = nullptr;
+    const double v = std::strtod(val.c_str(), &end);
+    if (val.empty() || *end != '\0' || errno != 0 || !std::isfinite(v)) {
+      return fail("'" + val + "' is not a number");
+    }
+    if (f->u != nullptr) {
+      if (v < 0 || v > 4294967295.0 || v != std::floor(v)) {
+        return fail("'" + key + "' needs a whole number");
+      }
+      cfg->*(f->u) = uint32_t(v);
+    } else {
+      cfg->*(f->f) = float(v);
+    }
+  }
+  const char *bad = nullptr;
+  if (pv_config_validate(cfg, &bad) != PV_OK) {
+    *error = path + ": setting '" + std::string(bad ? bad : "?") +
+             "' is out of range (docs/method.md gives the allowed ranges)";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace pv::tools

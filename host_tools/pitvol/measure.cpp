@@ -1,0 +1,218 @@
+#include "measure.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+#include "json_writer.h"
+
+namespace pv::tools {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+struct Extent {
+  double lo[3] = {INFINITY, INFINITY, INFINITY};
+  double hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  void add(const pv_point_t &p) {
+    const double v[3] = {p.x_mm, p.y_mm, p.z_mm};
+    for (int i = 0; i < 3; ++i) {
+      if (!std::isfinite(v[i])) return;
+    }
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = std::fmin(lo[i], v[i]);
+      hi[i] = std::fmax(hi[i], v[i]);
+    }
+  }
+  double largest_mm() const {
+    double m = 0;
+    for (int i = 0; i < 3; ++i) m = std::fmax(m, hi[i] - lo[i]);
+    return m;
+  }
+};
+
+// A soil test pit with its surroundings spans roughly 0.1 to 2 m.
+std::string unit_warning(const Extent &e, const std::string &units) {
+  const double span = e.largest_mm();
+  if (!(span > 0)) return "";
+  char buf[256];
+  if (span < 5.0) {
+    std::snprintf(buf, sizeof buf,
+                  "the scan spans only %.3g mm with --units %s; it looks like metres: try --units m",
+                  span, units.c_str());
+  } else if (span < 50.0) {
+    std::snprintf(buf, sizeof buf,
+                  "the scan spans only %.3g mm with --units %s; it looks like centimetres: try --units cm",
+                  span, units.c_str());
+  } else if (span > 20000.0) {
+    std::snprintf(buf, sizeof buf,
+                  "the scan spans %.3g mm with --units %s, far more than a test pit; check the units",
+                  span, units.c_str());
+  } else {
+    return "";
+  }
+  return buf;
+}
+
+void warning_texts(uint32_t w, std::vector<std::string> *out) {
+  if (w & PV_WARN_POINTS_THINNED) out->push_back("dense layers were thinned to fit the fixed memory");
+  if (w & PV_WARN_INVALID_POINTS) out->push_back("NaN/Inf or absurd points were skipped");
+  if (w & PV_WARN_OUT_OF_RANGE) out->push_back("more than 1 % of points fell outside the depth range");
+  if (w & PV_WARN_LAYERS_REJECTED) out->push_back("more than 5 % of layers were rejected as outliers");
+  if (w & PV_WARN_LARGE_TILT) out->push_back("the scan is tilted more than 30 degrees");
+  if (w & PV_WARN_SPARSE_LAYERS) out->push_back("more than 10 % of layers had too few wall points");
+}
+
+class Progress {
+ public:
+  Progress(bool enabled, uint64_t total) : on_(enabled && total > (16u << 20) && isatty(2)), total_(total) {}
+  void update(uint64_t done, uint64_t points) {
+    if (!on_) return;
+    const int pct = int(100.0 * double(done) / double(total_));
+    if (pct == last_) return;
+    last_ = pct;
+    std::fprintf(stderr, "\rpitvol: reading %3d %%  %llu points", pct, (unsigned long long)points);
+  }
+  ~Progress() {
+    if (on_ && last_ >= 0) std::fprintf(stderr, "\r%60s\r", "");
+  }
+
+ private:
+  bool on_;
+  uint64_t total_;
+  int last_ = -1;
+};
+
+struct SessionBlock {
+  void *ptr = nullptr;
+  ~SessionBlock() { std::free(ptr); }
+};
+
+int input_error(const MeasureOptions &opt, const scanio::Error &e) {
+  std::string where = opt.path;
+  if (e.line > 0) where += ":" + std::to_string(e.line);
+  else if (e.byte_offset > 0) where += ": byte " + std::to_string(e.byte_offset);
+  if (opt.json) {
+    JsonObject o;
+    o.str("status", "PV_ERR_INPUT").str("message", where + ": " + e.message).null("volume_cm3");
+    std::printf("%s\n", o.text().c_str());
+  }
+  std::fprintf(stderr, "pitvol: %s: %s\n", where.c_str(), e.message.c_str());
+  return kExitInput;
+}
+
+}  // namespace
+
+int run_measure(const MeasureOptions &opt) {
+  const auto t_start = Clock::now();
+  scanio::Error err;
+  std::unique_ptr<scanio::ScanReader> reader = scanio::open_scan(opt.path, opt.format, &err);
+  if (!reader) return input_error(opt, err);
+
+  size_t bytes = 0;
+  if (pv_session_size(&opt.cfg, &bytes) != PV_OK) {
+    std::fprintf(stderr, "pitvol: invalid configuration\n");
+    return kExitUsage;
+  }
+  SessionBlock block;
+  block.ptr = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
+  pv_session_t *session = nullptr;
+  if (block.ptr == nullptr || pv_session_init(&opt.cfg, block.ptr, bytes, &session) != PV_OK) {
+    std::fprintf(stderr, "pitvol: cannot set up a session of %zu bytes\n", bytes);
+    return kExitInternal;
+  }
+
+  // Fixed chunk: memory does not grow with the file.
+  std::vector<pv_point_t> chunk(65536);
+  Extent extent;
+  uint64_t points = 0;
+  Progress progress(opt.progress, reader->bytes_total());
+  for (;;) {
+    const long n = reader->read(chunk.data(), chunk.size(), &err);
+    if (n < 0) return input_error(opt, err);
+    if (n == 0) break;
+    for (long i = 0; i < n; ++i) {
+      pv_point_t &p = chunk[size_t(i)];
+      p.x_mm = float(p.x_mm * opt.scale_to_mm);
+      p.y_mm = float(p.y_mm * opt.scale_to_mm);
+      p.z_mm = float(p.z_mm * opt.scale_to_mm);
+      extent.add(p);
+    }
+    points += uint64_t(n);
+    pv_session_push(session, chunk.data(), size_t(n));
+    progress.update(reader->bytes_consumed(), points);
+  }
+  const double read_ms = ms_since(t_start);
+  if (points == 0) {
+    err.message = "the file holds no points";
+    return input_error(opt, err);
+  }
+
+  const auto t_finish = Clock::now();
+  pv_result_t r{};
+  const pv_status_t st = pv_session_finish(session, &r);
+  const double finish_ms = ms_since(t_finish);
+  const double total_ms = ms_since(t_start);
+
+  std::vector<std::string> warnings;
+  const std::string uw = unit_warning(extent, opt.units);
+  if (!uw.empty()) warnings.push_back(uw);
+  warning_texts(r.warnings, &warnings);
+
+  const bool ok = st == PV_OK;
+  if (opt.json) {
+    JsonObject timings;
+    timings.num("read_and_push", read_ms).num("finish", finish_ms).num("total", total_ms);
+    JsonObject o;
+    o.str("pitvol_version", PV_VERSION_STRING)
+        .str("method", pv_method_name(opt.cfg.method))
+        .str("file", opt.path)
+        .str("units", opt.units)
+        .str("status", pv_status_name(st))
+        .str("message", pv_status_message(st));
+    if (ok) {
+      o.num("volume_cm3", r.volume_cm3).num("depth_mm", r.depth_mm);
+    } else {
+      o.null("volume_cm3").null("depth_mm");
+    }
+    o.num("tilt_deg", r.tilt_deg)
+        .integer("layers_used", r.layers_used)
+        .integer("layers_rejected", r.layers_rejected)
+        .integer("points_in", r.points_in)
+        .integer("points_invalid", r.points_invalid)
+        .integer("points_out_of_range", r.points_out_of_range)
+        .integer("points_stored", r.points_stored)
+        .integer("points_used", r.points_used)
+        .strings("warnings", warnings)
+        .raw("timings_ms", timings.text());
+    std::printf("%s\n", o.text().c_str());
+  } else if (ok) {
+    std::printf("pit volume     %.1f cm3\n", r.volume_cm3);
+    std::printf("depth          %.1f mm\n", r.depth_mm);
+    std::printf("tilt           %.2f deg\n", r.tilt_deg);
+    std::printf("layers         %u used, %u rejected\n", r.layers_used, r.layers_rejected);
+    std::printf("points         %llu in, %llu used\n", (unsigned long long)r.points_in,
+                (unsigned long long)r.points_used);
+    std::printf("method         %s (pitvol %s)\n", pv_method_name(opt.cfg.method), PV_VERSION_STRING);
+    for (const std::string &w : warnings) std::printf("warning        %s\n", w.c_str());
+  } else {
+    for (const std::string &w : warnings) std::fprintf(stderr, "pitvol: warning: %s\n", w.c_str());
+  }
+  if (!ok) {
+    std::fprintf(stderr, "pitvol: no measurement (%s): %s\n", pv_status_name(st), pv_status_message(st));
+    return (st == PV_ERR_INTERNAL || st == PV_ERR_OUT_OF_MEMORY) ? kExitInternal : kExitNoMeasurement;
+  }
+  return kExitOk;
+}
+
+}  // namespace pv::tools

@@ -1,0 +1,11 @@
+// cmocka 1.1.5's header has no extern "C" guard and needs these first.
+#ifndef PV_TESTS_CMOCKA_H
+#define PV_TESTS_CMOCKA_H
+#include <cstdarg>
+#include <cstddef>
+#include <cstdint>
+#include <csetjmp>
+extern "C" {
+#include <cmocka.h>
+}
+#endif
