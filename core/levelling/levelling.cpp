@@ -38,10 +38,12 @@ double bbox_diagonal(const Eigen::Vector3d *pts, size_t n) {
   return (hi - lo).norm();
 }
 
-// Share of a slab's points that lie near the cloud's axis: a floor (disc)
-// has some, the opening (a ring of wall or ground) has almost none.
-double axis_occupancy(const Eigen::Vector3d *pts, size_t n, double z_from,
-                      double z_to, double *v) {
+// Points of a thin slab that lie near the cloud's axis. The floor is a dense
+// surface across the axis; the opening is a hole (a ring of wall top or of
+// ground), crossed only by sparse multipath points. Absolute counts, not
+// shares: a share is fooled when multipath crowds a sparse opening.
+size_t axis_count(const Eigen::Vector3d *pts, size_t n, double z_from, double z_to,
+                  double *v) {
   double cx = 0, cy = 0;
   for (size_t i = 0; i < n; ++i) {
     cx += pts[i].x();
@@ -49,17 +51,14 @@ double axis_occupancy(const Eigen::Vector3d *pts, size_t n, double z_from,
   }
   cx /= double(n);
   cy /= double(n);
-  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) v[i] = std::hypot(pts[i].x() - cx, pts[i].y() - cy);
+  const double r_near = 0.5 * quantile(v, n, 0.5);
+  size_t count = 0;
   for (size_t i = 0; i < n; ++i) {
-    if (pts[i].z() >= z_from && pts[i].z() <= z_to) {
-      v[m++] = std::hypot(pts[i].x() - cx, pts[i].y() - cy);
-    }
+    const double r = std::hypot(pts[i].x() - cx, pts[i].y() - cy);
+    count += pts[i].z() >= z_from && pts[i].z() <= z_to && r < r_near;
   }
-  if (m < 8) return 0.0;
-  const double r_med = quantile(v, m, 0.5);
-  size_t inner = 0;
-  for (size_t i = 0; i < m; ++i) inner += v[i] < 0.5 * r_med;
-  return double(inner) / double(m);
+  return count;
 }
 
 void rotate_all(const Eigen::Matrix3d &R, const Eigen::Vector3d *in, size_t n,
@@ -80,6 +79,53 @@ double Transform::tilt_deg() const {
   return std::acos(c) * 180.0 / kPi;
 }
 
+namespace {
+
+// The paper's fit, iterated from a starting orientation R: bottom candidates
+// in the current frame, RANSAC, least squares; rotate; repeat until the
+// normal stops moving. Returns false if no plane was found.
+bool converge(const Eigen::Vector3d *a, size_t n, const Params &p, const RansacParams &rp,
+              const Scratch &s, Eigen::Matrix3d *R, Report *report) {
+  Plane plane;
+  for (uint32_t round = 0; round < p.max_rounds; ++round) {
+    rotate_all(*R, a, n, s.b);
+    const ZRange zr = robust_z_range(s.b, n, s.v);
+    const double z_th = zr.lo + p.bottom_band_ratio * (zr.hi - zr.lo);
+    size_t m = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (s.b[i].z() < z_th) s.c[m++] = s.b[i];
+    }
+    report->candidates = uint32_t(m);
+    if (m < 3 || ransac_plane(s.c, m, rp, &plane) < 3) return false;
+    refine_plane(s.c, m, rp.tol_mm, &plane);
+    const uint32_t used = refine_plane(s.c, m, p.refine_tol_mm, &plane);
+    if (used < 3) return false;
+    report->inliers = used;
+    // Most of the pit lies on the positive side of its bottom plane.
+    size_t above = 0;
+    for (size_t i = 0; i < n; ++i) above += plane.distance(s.b[i]) > 0;
+    if (2 * above < n) {
+      plane.n = -plane.n;
+      plane.d = -plane.d;
+    }
+    const double moved_deg = std::acos(std::clamp(plane.n.z(), -1.0, 1.0)) * 180.0 / kPi;
+    *R = rotation_onto_z(plane.n) * *R;
+    report->rounds = round + 1;
+    if (round > 0 && moved_deg < 1e-4) break;
+  }
+  return true;
+}
+
+// How floor-like the low end of the frame R is (see axis_count).
+size_t floor_score(const Eigen::Vector3d *a, size_t n, const Eigen::Matrix3d &R, double slab_mm,
+                   const Scratch &s) {
+  rotate_all(R, a, n, s.b);
+  const ZRange z = robust_z_range(s.b, n, s.v);
+  return axis_count(s.b, n, z.lo - slab_mm, z.lo + slab_mm, s.v);
+}
+
+}  // namespace
+
 Status estimate(const P3 *pts, size_t n, const Params &p, const Scratch &s,
                 Transform *out, Report *report) {
   *report = Report{};
@@ -98,52 +144,23 @@ Status estimate(const P3 *pts, size_t n, const Params &p, const Scratch &s,
   RansacParams rp;
   rp.iterations = p.ransac_iterations;
   rp.tol_mm = p.plane_tol_ratio * extent;
+  const double slab = 2.0 * rp.tol_mm;
 
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  Plane plane;
-  for (uint32_t round = 0; round < p.max_rounds; ++round) {
-    rotate_all(R, s.a, n, s.b);
-    const ZRange zr = robust_z_range(s.b, n, s.v);
-    const double z_th = zr.lo + p.bottom_band_ratio * (zr.hi - zr.lo);
-    size_t m = 0;
-    for (size_t i = 0; i < n; ++i) {
-      if (s.b[i].z() < z_th) s.c[m++] = s.b[i];
-    }
-    report->candidates = uint32_t(m);
-    if (m < 3) return Status::NoPlane;
-    if (ransac_plane(s.c, m, rp, &plane) < 3) return Status::NoPlane;
-    refine_plane(s.c, m, rp.tol_mm, &plane);
-    const uint32_t used = refine_plane(s.c, m, p.refine_tol_mm, &plane);
-    if (used < 3) return Status::NoPlane;
-    report->inliers = used;
-
-    // Most of the pit lies on the positive side of its bottom plane.
-    size_t above = 0;
-    for (size_t i = 0; i < n; ++i) above += plane.distance(s.b[i]) > 0;
-    if (2 * above < n) {
-      plane.n = -plane.n;
-      plane.d = -plane.d;
-    }
-    const Eigen::Matrix3d step = rotation_onto_z(plane.n);
-    const double moved_deg =
-        std::acos(std::clamp(plane.n.z(), -1.0, 1.0)) * 180.0 / kPi;
-    R = step * R;
-    report->rounds = round + 1;
-
-    if (round == 0) {
-      rotate_all(R, s.a, n, s.b);
-      const ZRange z = robust_z_range(s.b, n, s.v);
-      const double band = p.bottom_band_ratio * (z.hi - z.lo);
-      const double low = axis_occupancy(s.b, n, z.lo, z.lo + band, s.v);
-      const double high = axis_occupancy(s.b, n, z.hi - band, z.hi, s.v);
-      if (high > low) {  // the plane found was the opening: turn over
-        R = half_turn_x() * R;
-        report->flipped = true;
-        continue;
-      }
-    }
-    if (round > 0 && moved_deg < 1e-4) break;
-  }
+  // Start from both ends of the scanner's Z: a scan may be upside down, and
+  // from the wrong end the fit can settle on the opening or a wall. Keep the
+  // result whose low end is most like a floor.
+  Eigen::Matrix3d R_up = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d R_down = half_turn_x();
+  Report rep_up, rep_down;
+  const bool ok_up = converge(s.a, n, p, rp, s, &R_up, &rep_up);
+  const bool ok_down = converge(s.a, n, p, rp, s, &R_down, &rep_down);
+  if (!ok_up && !ok_down) return Status::NoPlane;
+  const size_t score_up = ok_up ? floor_score(s.a, n, R_up, slab, s) : 0;
+  const size_t score_down = ok_down ? floor_score(s.a, n, R_down, slab, s) : 0;
+  const bool use_up = ok_up && (!ok_down || score_up >= score_down);
+  const Eigen::Matrix3d R = use_up ? R_up : R_down;
+  *report = use_up ? rep_up : rep_down;
+  report->flipped = !use_up;
 
   // Translation: the bottom plane at z = 0. Evaluate the final plane height
   // in the final frame from the final inliers.

@@ -14,11 +14,13 @@
 //   found in one round levels the next round's candidates, until the normal
 //   moves by less than 1e-4 deg. Each round: RANSAC (d_max = alpha * extent),
 //   then total least squares on the inliers, then again within refine_tol_mm.
-// - Which way is up: the normal is first oriented so that most points lie on
-//   its positive side; then the two ends of the cloud are compared: the
-//   bottom is the end whose slab has points near the axis (a floor), the
-//   opening is the end whose slab is a ring (a hole in the ground). This
-//   resolves the upside-down case, with or without ground around the rim.
+// - Which way is up: the iterated fit runs twice, starting from scanner +Z
+//   and from -Z (an upside-down or steeply tilted scan can lead the fit from
+//   one end onto the opening or a wall). In each round the normal is
+//   oriented so that most points lie on its positive side. Of the two
+//   results, the one whose low end has more points near the axis in a thin
+//   slab wins: a floor is a dense surface across the axis, the opening a
+//   ring (wall top or ground) crossed only by sparse multipath points.
 #ifndef PV_LEVELLING_LEVELLING_H
 #define PV_LEVELLING_LEVELLING_H
 
@@ -58,7 +60,7 @@ struct Report {
   uint32_t candidates = 0;     // bottom candidates in the last round
   uint32_t inliers = 0;        // of the final least-squares fit
   uint32_t rounds = 0;
-  bool flipped = false;        // the first plane found was the opening
+  bool flipped = false;        // the fit from scanner -Z won
 };
 
 struct Scratch {

@@ -27,8 +27,8 @@ extern "C" void pv_config_default(pv_config_t *cfg) {
   cfg->crescent_relax_mm = 10.0f;
   cfg->mad_window_early = 10;      // paper 4.2
   cfg->mad_window_late = 6;
-  cfg->mad_k_early = 5.0f;
-  cfg->mad_k_late = 3.0f;
+  cfg->mad_k_early = 4.5f;      // measured: core/cleanup/mad_filter.h (C4)
+  cfg->mad_k_late = 3.5f;
   cfg->mad_split_mm = 30.0f;
 }
 

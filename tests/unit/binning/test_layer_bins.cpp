@@ -1,0 +1,77 @@
+// Layer bins: fixed capacity, thinning in place, order independence.
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "binning/layer_bins.h"
+#include "common/point_hash.h"
+#include "pv_cmocka.h"
+
+namespace {
+
+std::vector<pv::P3> ring(int n) {
+  std::vector<pv::P3> v;
+  for (int i = 0; i < n; ++i) v.push_back(pv::P3{float(i) * 0.01f, float(i % 97), 1.0f});
+  return v;
+}
+
+std::vector<uint64_t> hashes_in(const pv::binning::LayerBins &b, uint32_t j) {
+  std::vector<uint64_t> h;
+  for (uint32_t i = 0; i < b.count(j); ++i) h.push_back(pv::point_hash(b.points(j)[i]));
+  std::sort(h.begin(), h.end());
+  return h;
+}
+
+void a_full_bin_thins_in_place_and_never_overflows(void **) {
+  std::vector<unsigned char> mem(pv::binning::LayerBins::bytes_needed(4, 100));
+  pv::binning::LayerBins bins;
+  bins.init(mem.data(), 4, 100);
+  const auto pts = ring(10000);
+  for (const pv::P3 &p : pts) bins.insert(2, p, pv::point_hash(p));
+  assert_true(bins.count(2) <= 100);
+  assert_true(bins.count(2) >= 25);      // a level halves, so at least a quarter stays
+  assert_true(bins.level(2) >= 6);       // 10000 -> <= 100 needs >= 2^6.6
+  assert_int_equal(bins.count(1), 0);
+  assert_int_equal(bins.stored() + bins.thinned(), 10000);
+  // Every survivor passes the bin's level; every passing point survived.
+  size_t passing = 0;
+  for (const pv::P3 &p : pts) passing += pv::binning::LayerBins::passes(pv::point_hash(p), bins.level(2));
+  assert_int_equal(passing, bins.count(2));
+}
+
+void kept_points_do_not_depend_on_order(void **) {
+  std::vector<unsigned char> m1(pv::binning::LayerBins::bytes_needed(1, 64));
+  std::vector<unsigned char> m2(m1.size());
+  pv::binning::LayerBins a, b;
+  a.init(m1.data(), 1, 64);
+  b.init(m2.data(), 1, 64);
+  auto pts = ring(3000);
+  for (const pv::P3 &p : pts) a.insert(0, p, pv::point_hash(p));
+  std::reverse(pts.begin(), pts.end());
+  std::rotate(pts.begin(), pts.begin() + 1234, pts.end());
+  for (const pv::P3 &p : pts) b.insert(0, p, pv::point_hash(p));
+  assert_int_equal(a.level(0), b.level(0));
+  assert_true(hashes_in(a, 0) == hashes_in(b, 0));
+}
+
+void clear_forgets_everything(void **) {
+  std::vector<unsigned char> mem(pv::binning::LayerBins::bytes_needed(2, 64));
+  pv::binning::LayerBins bins;
+  bins.init(mem.data(), 2, 64);
+  for (const pv::P3 &p : ring(500)) bins.insert(1, p, pv::point_hash(p));
+  bins.clear();
+  assert_int_equal(bins.count(1), 0);
+  assert_int_equal(bins.level(1), 0);
+  assert_int_equal(bins.stored(), 0);
+}
+
+}  // namespace
+
+int main() {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(a_full_bin_thins_in_place_and_never_overflows),
+      cmocka_unit_test(kept_points_do_not_depend_on_order),
+      cmocka_unit_test(clear_forgets_everything),
+  };
+  return cmocka_run_group_tests(tests, nullptr, nullptr);
+}

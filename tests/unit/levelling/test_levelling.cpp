@@ -1,0 +1,127 @@
+// Levelling: Rodrigues rotation, the hash sample, and recovery of a known
+// tilt (0-30 deg and upside down) with 30 % outliers inside the pit.
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
+#include "levelling/hash_sample.h"
+#include "levelling/levelling.h"
+#include "levelling/rodrigues.h"
+#include "common/point_hash.h"
+#include "synth/synthetic_pit.h"
+#include "pv_cmocka.h"  // last: see pv_cmocka.h
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double angle_deg(const Eigen::Vector3d &a, const Eigen::Vector3d &b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / kPi;
+}
+
+void rodrigues_maps_normal_onto_z(void **) {
+  const Eigen::Vector3d ns[] = {{0, 0, 1}, {0.3, -0.2, 0.9}, {1, 0, 0}, {0, -1, 1e-9},
+                                {0.01, 0.02, -1}, {0, 0, -1}, {-0.5, 0.5, -0.2}};
+  for (const Eigen::Vector3d &n : ns) {
+    const Eigen::Matrix3d R = pv::levelling::rotation_onto_z(n);
+    const Eigen::Vector3d z = R * n.normalized();
+    assert_true(angle_deg(z, Eigen::Vector3d::UnitZ()) < 1e-9);
+    // A rotation: orthonormal with determinant +1.
+    assert_true((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-12);
+    assert_true(std::fabs(R.determinant() - 1.0) < 1e-12);
+  }
+}
+
+void hash_sample_is_order_independent(void **) {
+  std::vector<pv::P3> pts;
+  for (int i = 0; i < 5000; ++i) pts.push_back(pv::P3{float(i), float(i % 7), float(i % 13)});
+  pv::levelling::SampleEntry a[256], b[256], ca[256], cb[256];
+  pv::levelling::HashSample s1, s2;
+  s1.init(a, 256);
+  s2.init(b, 256);
+  for (const pv::P3 &p : pts) s1.offer(p, pv::point_hash(p));
+  for (size_t i = pts.size(); i-- > 0;) s2.offer(pts[i], pv::point_hash(pts[i]));
+  s1.canonical(ca);
+  s2.canonical(cb);
+  assert_int_equal(s1.size(), 256);
+  for (int i = 0; i < 256; ++i) assert_true(ca[i].hash == cb[i].hash);
+  // The sample holds the 256 smallest hashes of all points.
+  std::vector<uint64_t> all;
+  for (const pv::P3 &p : pts) all.push_back(pv::point_hash(p));
+  std::sort(all.begin(), all.end());
+  for (int i = 0; i < 256; ++i) assert_true(ca[i].hash == all[size_t(i)]);
+}
+
+struct Case {
+  double tilt_deg, azimuth_deg;
+  bool upside_down;
+  double ground_mm;
+};
+
+// True up axis of the synthetic pit in the scanner frame (see synth).
+Eigen::Vector3d true_up(const Case &c) {
+  const double t = c.tilt_deg * kPi / 180, az = c.azimuth_deg * kPi / 180;
+  const Eigen::Vector3d up(std::sin(az) * std::sin(t), -std::cos(az) * std::sin(t), std::cos(t));
+  return c.upside_down ? Eigen::Vector3d(-up) : up;
+}
+
+void recovers_tilt_with_30_percent_outliers(void **) {
+  const Case cases[] = {{0, 0, false, 60},   {5, 10, false, 60},  {12, 30, false, 0},
+                        {20, 100, false, 60}, {25, 200, false, 0}, {30, 290, false, 60},
+                        {30, 45, false, 0},   {0, 0, true, 60},    {10, 70, true, 0},
+                        {25, 150, true, 60}};
+  const size_t n = 8192;
+  std::vector<pv::P3> pts(n);
+  std::vector<Eigen::Vector3d> a(n), b(n), c(n);
+  std::vector<double> v(n);
+  for (const Case &cs : cases) {
+    pv::synth::PitSpec spec;
+    spec.tilt_deg = cs.tilt_deg;
+    spec.tilt_azimuth_deg = cs.azimuth_deg;
+    spec.upside_down = cs.upside_down;
+    spec.ground_width_mm = cs.ground_mm;
+    spec.multipath_share = 0.30;  // 30 % outliers floating in the pit
+    spec.noise_mm = 0.1;
+    spec.seed = 7;
+    pv::synth::PitScan scan(spec);
+    for (pv::P3 &p : pts) {
+      const pv_point_t q = scan.next();
+      p = pv::P3{q.x_mm, q.y_mm, q.z_mm};
+    }
+    pv::levelling::Transform t;
+    pv::levelling::Report rep;
+    const auto st = pv::levelling::estimate(pts.data(), n, pv::levelling::Params{},
+                                            {a.data(), b.data(), c.data(), v.data()}, &t, &rep);
+    assert_true(st == pv::levelling::Status::Ok);
+    const Eigen::Vector3d up = t.R.row(2).transpose();
+    const double err = angle_deg(up, true_up(cs));
+    if (err >= 0.05) print_error("tilt %.1f az %.0f flip %d: axis off by %.4f deg\n", cs.tilt_deg,
+                                 cs.azimuth_deg, int(cs.upside_down), err);
+    assert_true(err < 0.05);
+    assert_true(std::fabs(t.tilt_deg() - (cs.upside_down ? 180 - cs.tilt_deg : cs.tilt_deg)) < 0.05);
+  }
+}
+
+void too_few_points_is_reported(void **) {
+  pv::P3 pts[10] = {};
+  Eigen::Vector3d a[10], b[10], c[10];
+  double v[10];
+  pv::levelling::Transform t;
+  pv::levelling::Report rep;
+  assert_true(pv::levelling::estimate(pts, 10, pv::levelling::Params{}, {a, b, c, v}, &t, &rep) ==
+              pv::levelling::Status::TooFewPoints);
+}
+
+}  // namespace
+
+int main() {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(rodrigues_maps_normal_onto_z),
+      cmocka_unit_test(hash_sample_is_order_independent),
+      cmocka_unit_test(recovers_tilt_with_30_percent_outliers),
+      cmocka_unit_test(too_few_points_is_reported),
+  };
+  return cmocka_run_group_tests(tests, nullptr, nullptr);
+}

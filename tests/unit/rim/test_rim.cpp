@@ -1,0 +1,86 @@
+// Rim height: ground peak in the levelled sample, wall top from layer weights.
+#include <cmath>
+#include <vector>
+
+#include "common/point_hash.h"
+#include "rim/rim.h"
+#include "pv_cmocka.h"  // last: see pv_cmocka.h
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Rng {
+  pv::SplitMix64 g{42};
+  double u() { return double(g.next() >> 11) * (1.0 / 9007199254740992.0); }
+  double n() { return std::sqrt(-2 * std::log(u() + 1e-300)) * std::cos(2 * kPi * u()); }
+};
+
+// Levelled points: floor at 0, wall up to h, optional ground at h.
+std::vector<Eigen::Vector3d> pit(double h, bool ground, Rng &r) {
+  std::vector<Eigen::Vector3d> v;
+  for (int i = 0; i < 8000; ++i) {
+    const double th = 2 * kPi * r.u(), k = r.u();
+    if (k < 0.25) {
+      const double rr = 110 * std::sqrt(r.u());
+      v.emplace_back(rr * std::cos(th), rr * std::sin(th), 0.1 * r.n());
+    } else if (ground && k < 0.45) {
+      const double rr = 110 + 60 * r.u();
+      v.emplace_back(rr * std::cos(th), rr * std::sin(th), h + 0.1 * r.n());
+    } else {
+      v.emplace_back(110 * std::cos(th), 110 * std::sin(th), h * r.u());
+    }
+  }
+  return v;
+}
+
+void ground_peak_gives_the_rim_height(void **) {
+  Rng r;
+  const auto v = pit(287.3, true, r);
+  std::vector<double> scratch(v.size());
+  const pv::rim::Ground g = pv::rim::detect_ground(v.data(), v.size(), pv::rim::Params{}, scratch.data());
+  assert_true(g.found);
+  assert_true(std::fabs(g.z_mm - 287.3) < 0.03);
+}
+
+void walls_only_have_no_ground(void **) {
+  Rng r;
+  const auto v = pit(287.3, false, r);
+  std::vector<double> scratch(v.size());
+  const pv::rim::Ground g = pv::rim::detect_ground(v.data(), v.size(), pv::rim::Params{}, scratch.data());
+  assert_false(g.found);
+}
+
+void wall_top_to_a_fraction_of_a_layer(void **) {
+  // Uniform wall weight 1000 per full layer, rim at 200.3 mm, 0.5 mm layers:
+  // the layer at 200.5 covers [200.25, 200.75] and is 10 % occupied.
+  pv::gridding::Grid g{0.5, 600, 8};
+  std::vector<double> w(g.layers, 0.0), scratch(g.layers);
+  const double rim = 200.3;
+  for (uint32_t j = 0; j < g.layers; ++j) {
+    const double lo = g.z_of(j) - 0.25, hi = g.z_of(j) + 0.25;
+    if (lo >= 0) w[j] = 1000.0 * std::fmax(0.0, std::fmin(hi, rim) - lo) / 0.5;
+  }
+  w[g.layers - 20] = 3;  // a stray far above the rim does not count
+  const double top = pv::rim::wall_top_mm(w.data(), g, scratch.data());
+  assert_true(std::fabs(top - rim) < 1e-9);
+}
+
+void no_wall_no_rim(void **) {
+  pv::gridding::Grid g{0.5, 600, 8};
+  std::vector<double> w(g.layers, 0.0), scratch(g.layers);
+  w[10] = 500;
+  assert_true(pv::rim::wall_top_mm(w.data(), g, scratch.data()) < 0);
+}
+
+}  // namespace
+
+int main() {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(ground_peak_gives_the_rim_height),
+      cmocka_unit_test(walls_only_have_no_ground),
+      cmocka_unit_test(wall_top_to_a_fraction_of_a_layer),
+      cmocka_unit_test(no_wall_no_rim),
+  };
+  return cmocka_run_group_tests(tests, nullptr, nullptr);
+}

@@ -1,0 +1,43 @@
+// Helpers shared by the session tests: a session in an aligned block, and a
+// synthetic scan as a vector.
+#ifndef PV_TESTS_SESSION_SUPPORT_H
+#define PV_TESTS_SESSION_SUPPORT_H
+
+#include <cstdlib>
+#include <vector>
+
+#include "pitvol/pitvol.h"
+#include "synth/synthetic_pit.h"
+
+struct TestSession {
+  pv_config_t cfg;
+  size_t bytes = 0;
+  void *block = nullptr;
+  pv_session_t *s = nullptr;
+  TestSession() {
+    pv_config_default(&cfg);
+    pv_session_size(&cfg, &bytes);
+    block = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
+    pv_session_init(&cfg, block, bytes, &s);
+  }
+  ~TestSession() { std::free(block); }
+  pv_status_t push_all(const std::vector<pv_point_t> &pts, size_t batch) {
+    for (size_t i = 0; i < pts.size(); i += batch) {
+      const size_t n = pts.size() - i < batch ? pts.size() - i : batch;
+      const pv_status_t st = pv_session_push(s, pts.data() + i, n);
+      if (st != PV_OK) return st;
+    }
+    return PV_OK;
+  }
+};
+
+inline std::vector<pv_point_t> scan_points(const pv::synth::PitSpec &spec, size_t n) {
+  pv::synth::PitScan scan(spec);
+  std::vector<pv_point_t> v(n);
+  for (pv_point_t &p : v) p = scan.next();
+  return v;
+}
+
+inline double rel_err(double v, double truth) { return (v - truth) / truth; }
+
+#endif
