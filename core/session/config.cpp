@@ -18,7 +18,6 @@ extern "C" void pv_config_default(pv_config_t *cfg) {
   cfg->plane_tol_ratio = 0.005f;   // alpha (not given by the paper)
   cfg->ransac_iterations = 256;
   cfg->rim_band_ratio = 0.2f;      // paper: top 20 %
-  cfg->rim_intervals = 24;
   cfg->knn_k = 8;
   cfg->thin_base_mm = 1.0f;
   cfg->crescent_range_mm = 50.0f;  // paper 3.6
@@ -52,7 +51,6 @@ extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **f
   else if (!in_range(cfg->plane_tol_ratio, 0.0001f, 0.1f)) bad = "plane_tol_ratio";
   else if (cfg->ransac_iterations < 16 || cfg->ransac_iterations > 100000) bad = "ransac_iterations";
   else if (!in_range(cfg->rim_band_ratio, 0.02f, 0.8f)) bad = "rim_band_ratio";
-  else if (cfg->rim_intervals < 4 || cfg->rim_intervals > 1024) bad = "rim_intervals";
   else if (cfg->knn_k < 2 || cfg->knn_k > 32) bad = "knn_k";
   else if (!in_range(cfg->thin_base_mm, 0.01f, 50.0f)) bad = "thin_base_mm";
   else if (!in_range(cfg->crescent_range_mm, 1.0f, 1000.0f)) bad = "crescent_range_mm";

@@ -27,17 +27,11 @@ constexpr double kEndGuardMm = 1.5;
 constexpr uint32_t kMinContourPoints = 32;
 constexpr uint32_t kMinUsableLayers = 12;
 constexpr uint64_t kMinPoints = 1000;
+// pv_layer_info_t.kept of a fitted layer before the cleanup decides.
+constexpr uint8_t kUsablePending = 2;
 
 pv_status_t final_transform(pv_session *s, levelling::Transform *t) {
-  s->sample.canonical(s->sample_sorted);
-  const uint32_t n = s->sample.size();
-  for (uint32_t i = 0; i < n; ++i) s->sample_points[i] = s->sample_sorted[i].p;
-  levelling::Params lp;
-  lp.bottom_band_ratio = s->cfg.bottom_band_ratio;
-  lp.plane_tol_ratio = s->cfg.plane_tol_ratio;
-  lp.ransac_iterations = s->cfg.ransac_iterations;
-  levelling::Report rep;
-  switch (levelling::estimate(s->sample_points, n, lp, s->lv, t, &rep)) {
+  switch (fit_sample(s, t)) {
     case levelling::Status::Ok: return PV_OK;
     case levelling::Status::TooFewPoints: return PV_ERR_TOO_FEW_POINTS;
     case levelling::Status::NoPlane: return PV_ERR_NO_BOTTOM_PLANE;
@@ -192,11 +186,13 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
     const size_t n = gather_layer(s, t, j);
     const LayerOutcome o = process_layer(s, n);
     pv_layer_info_t &li = s->layer_info[s->layer_info_count++];
+    // kept: 0 unusable; usable layers are marked after the cleanup below.
     li = pv_layer_info_t{float(z), float(o.area_mm2), o.points, 0, o.shape};
     if (!o.usable) {
       ++unusable;
       continue;
     }
+    li.kept = kUsablePending;
     s->seq_z[m] = z;
     s->seq_area[m] = o.area_mm2;
     ++m;
@@ -220,11 +216,10 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
     s->seq_area[w] = s->seq_area[i];
     ++w;
   }
-  for (uint32_t i = 0, q = 0; i < s->layer_info_count && q < w; ++i) {
-    if (double(s->layer_info[i].z_mm) == double(float(s->seq_z[q]))) {
-      s->layer_info[i].kept = 1;
-      ++q;
-    }
+  // The usable layers are the sequence, in order: their cleanup verdicts
+  // follow one to one.
+  for (uint32_t i = 0, q = 0; i < s->layer_info_count; ++i) {
+    if (s->layer_info[i].kept == kUsablePending) s->layer_info[i].kept = s->seq_keep[q++];
   }
   out->layers_used = uint32_t(kept);
   out->layers_rejected = uint32_t(s->layer_info_count - kept);

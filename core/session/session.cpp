@@ -22,14 +22,6 @@ bool valid_point(const pv_point_t &p) {
          std::fabs(p.z_mm) < kAbsurdMm;
 }
 
-levelling::Params level_params(const pv_config_t &c) {
-  levelling::Params p;
-  p.bottom_band_ratio = c.bottom_band_ratio;
-  p.plane_tol_ratio = c.plane_tol_ratio;
-  p.ransac_iterations = c.ransac_iterations;
-  return p;
-}
-
 void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
   const int64_t j = s->grid.layer_of(s->provisional.level_z(p));
   if (j < 0) {
@@ -42,15 +34,8 @@ void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
 // Re-estimates the provisional plane from the sample. Later points are
 // binned with it; points already binned are re-assigned at finish.
 void refine(pv_session *s) {
-  s->sample.canonical(s->sample_sorted);
-  const uint32_t n = s->sample.size();
-  for (uint32_t i = 0; i < n; ++i) s->sample_points[i] = s->sample_sorted[i].p;
   levelling::Transform t;
-  levelling::Report rep;
-  if (levelling::estimate(s->sample_points, n, level_params(s->cfg), s->lv, &t, &rep) ==
-      levelling::Status::Ok) {
-    s->provisional = t;
-  }
+  if (fit_sample(s, &t) == levelling::Status::Ok) s->provisional = t;
   // On failure keep the previous transform (identity at first): binning
   // still works, only the bins' thinning is less even until the next try.
   s->have_transform = true;
@@ -58,6 +43,18 @@ void refine(pv_session *s) {
 }
 
 }  // namespace
+
+levelling::Status fit_sample(pv_session *s, levelling::Transform *t) {
+  s->sample.canonical(s->sample_sorted);
+  const uint32_t n = s->sample.size();
+  for (uint32_t i = 0; i < n; ++i) s->sample_points[i] = s->sample_sorted[i].p;
+  levelling::Params p;
+  p.bottom_band_ratio = s->cfg.bottom_band_ratio;
+  p.plane_tol_ratio = s->cfg.plane_tol_ratio;
+  p.ransac_iterations = s->cfg.ransac_iterations;
+  levelling::Report rep;
+  return levelling::estimate(s->sample_points, n, p, s->lv, t, &rep);
+}
 
 void establish_transform(pv_session *s) {
   if (s->have_transform) return;

@@ -100,6 +100,10 @@ namespace pv::session {
 
 // Lays the session out in block (or counts bytes when block is null).
 size_t layout(const pv_config_t &cfg, unsigned char *block, pv_session *s);
+// Fits the levelling transform on the canonical (sorted) sample. The
+// provisional refinements and the final fit share it, so they cannot differ
+// in anything but the points seen so far.
+levelling::Status fit_sample(pv_session *s, levelling::Transform *t);
 // Makes sure a transform exists and the warm-up points are binned.
 void establish_transform(pv_session *s);
 // estimate() and finish() share this; it reads the bins, writes scratch.

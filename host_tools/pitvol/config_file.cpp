@@ -26,7 +26,6 @@ const Field kFields[] = {
     {"plane_tol_ratio", &pv_config_t::plane_tol_ratio, nullptr},
     {"ransac_iterations", nullptr, &pv_config_t::ransac_iterations},
     {"rim_band_ratio", &pv_config_t::rim_band_ratio, nullptr},
-    {"rim_intervals", nullptr, &pv_config_t::rim_intervals},
     {"knn_k", nullptr, &pv_config_t::knn_k},
     {"thin_base_mm", &pv_config_t::thin_base_mm, nullptr},
     {"crescent_range_mm", &pv_config_t::crescent_range_mm, nullptr},

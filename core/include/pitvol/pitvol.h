@@ -82,7 +82,6 @@ typedef struct pv_config {
 
   /* rim (paper 3.3) */
   float rim_band_ratio;         /* top candidates within this share of z-range */
-  uint32_t rim_intervals;       /* X sub-intervals */
 
   /* adaptive thinning (paper 3.5) */
   uint32_t knn_k;
@@ -125,7 +124,7 @@ typedef struct pv_result {
   double volume_cm3;
   double depth_mm;          /* bottom plane to rim */
   double tilt_deg;          /* angle of the bottom normal from scanner +Z */
-  double rim_area_mm2;      /* cross-section at the rim */
+  double rim_area_mm2;      /* cross-section of the highest kept layer */
   uint32_t layers_used;
   uint32_t layers_rejected; /* negative/outlier areas and unusable layers */
   uint64_t points_in;       /* every point pushed */
