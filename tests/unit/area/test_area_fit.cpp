@@ -1,33 +1,19 @@
 // pv::area::fit_area against closed contours with exact analytic areas,
 // sampled with Gaussian noise from a fixed-seed generator.
-#include "pv_cmocka.h"
 
 #include <cmath>
 #include <cstring>
 
 #include "area/area_fit.h"
+#include "test_rng.h"
+#include "pv_cmocka.h"  // last: see pv_cmocka.h
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using pv::test::kPi;
+using pv::test::Rng;
 constexpr size_t kMaxN = 4000;
 
-// splitmix64: tiny, portable, the same sequence on every platform.
-struct Rng {
-  uint64_t s;
-  uint64_t next() {
-    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  // Uniform in (0, 1): never 0, so log() in Box-Muller is finite.
-  double uniform() { return (static_cast<double>(next() >> 11) + 0.5) * (1.0 / 9007199254740992.0); }
-  double gauss() {
-    const double u1 = uniform(), u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
-  }
-};
 
 // Contour r(theta) = r0 + a sin(k theta) around (cx, cy), stretched to an
 // ellipse by (sx, sy); theta uniform at random, noise sigma on x and y.

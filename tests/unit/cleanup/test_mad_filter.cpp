@@ -1,30 +1,18 @@
 // pv::cleanup::mad_filter on synthetic area sequences with known outliers.
-#include "pv_cmocka.h"
 
 #include <cmath>
 #include <cstring>
 
 #include "cleanup/mad_filter.h"
+#include "test_rng.h"
+#include "pv_cmocka.h"  // last: see pv_cmocka.h
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using pv::test::kPi;
+using pv::test::Rng;
 constexpr size_t kN = 300;  // layers 0.5 .. 150 mm on the 0.5 mm grid
 
-struct Rng {  // splitmix64 + Box-Muller, fixed seed: same draws everywhere
-  uint64_t s;
-  uint64_t next() {
-    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return (static_cast<double>(next() >> 11) + 0.5) * (1.0 / 9007199254740992.0); }
-  double gauss() {
-    const double u1 = uniform(), u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
-  }
-};
 
 enum class Profile { kCone, kLinearBottom, kQuadraticBottom, kConstant };
 

@@ -2,40 +2,36 @@
 #include <cmath>
 #include <vector>
 
-#include "common/point_hash.h"
 #include "rim/rim.h"
+#include "test_rng.h"
 #include "pv_cmocka.h"  // last: see pv_cmocka.h
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using pv::test::kPi;
+using pv::test::Rng;
 
-struct Rng {
-  pv::SplitMix64 g{42};
-  double u() { return double(g.next() >> 11) * (1.0 / 9007199254740992.0); }
-  double n() { return std::sqrt(-2 * std::log(u() + 1e-300)) * std::cos(2 * kPi * u()); }
-};
 
 // Levelled points: floor at 0, wall up to h, optional ground at h.
 std::vector<Eigen::Vector3d> pit(double h, bool ground, Rng &r) {
   std::vector<Eigen::Vector3d> v;
   for (int i = 0; i < 8000; ++i) {
-    const double th = 2 * kPi * r.u(), k = r.u();
+    const double th = 2 * kPi * r.uniform(), k = r.uniform();
     if (k < 0.25) {
-      const double rr = 110 * std::sqrt(r.u());
-      v.emplace_back(rr * std::cos(th), rr * std::sin(th), 0.1 * r.n());
+      const double rr = 110 * std::sqrt(r.uniform());
+      v.emplace_back(rr * std::cos(th), rr * std::sin(th), 0.1 * r.gauss());
     } else if (ground && k < 0.45) {
-      const double rr = 110 + 60 * r.u();
-      v.emplace_back(rr * std::cos(th), rr * std::sin(th), h + 0.1 * r.n());
+      const double rr = 110 + 60 * r.uniform();
+      v.emplace_back(rr * std::cos(th), rr * std::sin(th), h + 0.1 * r.gauss());
     } else {
-      v.emplace_back(110 * std::cos(th), 110 * std::sin(th), h * r.u());
+      v.emplace_back(110 * std::cos(th), 110 * std::sin(th), h * r.uniform());
     }
   }
   return v;
 }
 
 void ground_peak_gives_the_rim_height(void **) {
-  Rng r;
+  Rng r{42};
   const auto v = pit(287.3, true, r);
   std::vector<double> scratch(v.size());
   const pv::rim::Ground g = pv::rim::detect_ground(v.data(), v.size(), pv::rim::Params{}, scratch.data());
@@ -44,7 +40,7 @@ void ground_peak_gives_the_rim_height(void **) {
 }
 
 void walls_only_have_no_ground(void **) {
-  Rng r;
+  Rng r{42};
   const auto v = pit(287.3, false, r);
   std::vector<double> scratch(v.size());
   const pv::rim::Ground g = pv::rim::detect_ground(v.data(), v.size(), pv::rim::Params{}, scratch.data());

@@ -8,32 +8,18 @@
 #include <cstring>
 #include <vector>
 
-#include "pv_cmocka.h"
 #include "thinning/adaptive_thinning.h"
+#include "test_rng.h"
+#include "pv_cmocka.h"  // last: see pv_cmocka.h
 
 using pv::XY;
 namespace th = pv::thinning;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using pv::test::kPi;
+using pv::test::Rng;
 
-// Deterministic generator (splitmix64): same points on every platform.
-struct Rng {
-  uint64_t s;
-  uint64_t next() {
-    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0); }
-  double gauss() {  // Box-Muller
-    const double u1 = std::max(uniform(), 1e-300);
-    const double u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
-  }
-};
 
 // Ring of radius r with radial noise; angle drawn with density
 // proportional to 1 + a cos(theta) (rejection sampling).
