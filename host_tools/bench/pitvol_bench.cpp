@@ -142,31 +142,6 @@ int run_quiet(const std::vector<std::string> &args) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// Streams a seed-2 synthetic scan of n points to path as binary PLY, with
-// the header pitvol-synth writes. No point array: the benchmark process is
-// still small when it runs the CLI (see the RSS note in main).
-bool write_ply(const std::string &path, size_t n, uint64_t seed) {
-  pv::synth::PitSpec spec;
-  spec.seed = seed;
-  FILE *f = std::fopen(path.c_str(), "wb");
-  if (f == nullptr) return false;
-  std::fprintf(f,
-               "ply\nformat binary_little_endian 1.0\n"
-               "comment pitvol synthetic pit: radius %.3f mm depth %.3f mm seed %llu\n"
-               "comment exact_volume_cm3 %.6f\n"
-               "element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n"
-               "end_header\n",
-               spec.radius_top_mm, spec.depth_mm, (unsigned long long)spec.seed,
-               pv::synth::exact_volume_cm3(spec), n);
-  pv::synth::PitScan scan(spec);
-  bool ok = true;
-  for (size_t i = 0; i < n; ++i) {
-    const pv_point_t p = scan.next();  // x86 and aarch64 are little endian
-    ok = ok && std::fwrite(&p, sizeof p, 1, f) == 1;
-  }
-  return std::fclose(f) == 0 && ok;
-}
-
 struct Row {
   std::string what, value, note;
 };
@@ -219,7 +194,9 @@ int main(int argc, char **argv) {
     replay_note = "skipped: cannot make a temp directory";
   } else {
     const std::string file = std::string(dir.data()) + "/replay.ply";
-    if (!write_ply(file, scan_points, 2)) {
+    pv::synth::PitSpec file_spec;
+    file_spec.seed = 2;
+    if (!pv::synth::write_scan_ply(file.c_str(), file_spec, scan_points)) {
       replay_note = "skipped: cannot write " + file;
     } else {
       std::vector<double> replay_ms;

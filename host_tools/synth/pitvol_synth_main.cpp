@@ -63,26 +63,8 @@ int main(int argc, char **argv) {
     }
   }
   if (path == nullptr) return usage();
-  FILE *f = std::fopen(path, "wb");
-  if (f == nullptr) {
+  if (!pv::synth::write_scan_ply(path, spec, uint64_t(points))) {
     std::fprintf(stderr, "pitvol-synth: cannot write %s\n", path);
-    return 3;
-  }
-  std::fprintf(f,
-               "ply\nformat binary_little_endian 1.0\n"
-               "comment pitvol synthetic pit: radius %.3f mm depth %.3f mm seed %llu\n"
-               "comment exact_volume_cm3 %.6f\n"
-               "element vertex %lld\nproperty float x\nproperty float y\nproperty float z\n"
-               "end_header\n",
-               spec.radius_top_mm, spec.depth_mm, (unsigned long long)spec.seed,
-               pv::synth::exact_volume_cm3(spec), points);
-  pv::synth::PitScan scan(spec);
-  for (long long i = 0; i < points; ++i) {
-    const pv_point_t p = scan.next();  // x86 and aarch64 are little endian
-    std::fwrite(&p, sizeof p, 1, f);
-  }
-  if (std::fclose(f) != 0) {
-    std::fprintf(stderr, "pitvol-synth: write failed for %s\n", path);
     return 3;
   }
   std::printf("%s: %lld points, exact volume %.3f cm3\n", path, points,

@@ -1,6 +1,7 @@
 #include "synth/synthetic_pit.h"
 
 #include <cmath>
+#include <cstdio>
 
 namespace pv::synth {
 
@@ -110,6 +111,26 @@ pv_point_t PitScan::next() {
   const double y = R[3] * p[0] + R[4] * p[1] + R[5] * p[2] + s_.offset_mm[1];
   const double z = R[6] * p[0] + R[7] * p[1] + R[8] * p[2] + s_.offset_mm[2];
   return pv_point_t{float(x), float(y), float(z)};
+}
+
+bool write_scan_ply(const char *path, const PitSpec &s, uint64_t n) {
+  FILE *f = std::fopen(path, "wb");
+  if (f == nullptr) return false;
+  std::fprintf(f,
+               "ply\nformat binary_little_endian 1.0\n"
+               "comment pitvol synthetic pit: radius %.3f mm depth %.3f mm seed %llu\n"
+               "comment exact_volume_cm3 %.6f\n"
+               "element vertex %llu\nproperty float x\nproperty float y\nproperty float z\n"
+               "end_header\n",
+               s.radius_top_mm, s.depth_mm, (unsigned long long)s.seed, exact_volume_cm3(s),
+               (unsigned long long)n);
+  PitScan scan(s);
+  bool ok = true;
+  for (uint64_t i = 0; i < n; ++i) {
+    const pv_point_t p = scan.next();  // x86 and aarch64 are little endian
+    ok = ok && std::fwrite(&p, sizeof p, 1, f) == 1;
+  }
+  return std::fclose(f) == 0 && ok;
 }
 
 }  // namespace pv::synth

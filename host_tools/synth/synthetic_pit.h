@@ -37,6 +37,11 @@ struct PitSpec {
 // Void volume below the rim plane, closed form (frustum), in cm^3.
 double exact_volume_cm3(const PitSpec &s);
 
+// Streams n points of the scan to path as binary little-endian float PLY,
+// with the spec and the exact volume in header comments. No point array,
+// so any n fits in memory. Returns false if the file cannot be written.
+bool write_scan_ply(const char *path, const PitSpec &s, uint64_t n);
+
 class PitScan {
  public:
   explicit PitScan(const PitSpec &s);
