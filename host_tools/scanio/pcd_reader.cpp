@@ -1,5 +1,4 @@
 // PCD 0.6 / 0.7: DATA ascii or binary (little endian, packed records).
-#include <climits>
 #include <vector>
 
 #include "scanio/byte_source.h"
@@ -38,15 +37,7 @@ class PcdReader final : public ScanReader {
 
   uint64_t declared_points() const override { return points_; }
 
-  long read(pv_point_t *out, size_t cap, Error *err) override {
-    Error local;
-    if (!err) err = &local;
-    if (failed_) {
-      *err = sticky_;
-      return -1;
-    }
-    if (!out || cap == 0) return fail(err, "read() needs an output array and cap > 0");
-    if (cap > LONG_MAX) cap = LONG_MAX;
+  long read_points(pv_point_t *out, size_t cap, Error *err) override {
     size_t n = 0;
     while (n < cap && done_ < points_) {
       if (!(ascii_ ? ascii_point(&out[n], err) : binary_point(&out[n], err))) return -1;
@@ -57,11 +48,9 @@ class PcdReader final : public ScanReader {
       checked_tail_ = true;
       if (!check_tail(err)) return -1;
     }
-    // At the end the progress is complete even if elements after the data
-    // (PLY faces, ...) were not read.
-    bytes_consumed_ = n == 0 ? bytes_total_ : src_.offset();
     return static_cast<long>(n);
   }
+  uint64_t position() const override { return src_.offset(); }
 
  private:
   bool header_error(Error *err, const std::string &msg) {
@@ -208,13 +197,10 @@ class PcdReader final : public ScanReader {
   }
 
   long fail(Error *err, std::string msg) {
-    failed_ = true;
-    sticky_ = Error{};
-    sticky_.message = std::move(msg);
-    if (ascii_) sticky_.line = line_;
-    else sticky_.byte_offset = src_.offset();
-    bytes_consumed_ = src_.offset();
-    *err = sticky_;
+    *err = Error{};
+    err->message = std::move(msg);
+    if (ascii_) err->line = line_;
+    else err->byte_offset = src_.offset();
     return -1;
   }
   bool fail_b(Error *err, std::string msg) {
@@ -319,8 +305,7 @@ class PcdReader final : public ScanReader {
   Scalar axis_type_[3] = {Scalar::F32, Scalar::F32, Scalar::F32};
   size_t record_ = 0, ntok_ = 0;
   uint64_t points_ = 0, done_ = 0, line_ = 0;
-  bool ascii_ = false, checked_tail_ = false, failed_ = false;
-  Error sticky_;
+  bool ascii_ = false, checked_tail_ = false;
 };
 
 }  // namespace

@@ -1,5 +1,4 @@
 // PLY 1.0: ascii, binary_little_endian, binary_big_endian.
-#include <climits>
 #include <vector>
 
 #include "scanio/byte_source.h"
@@ -52,15 +51,7 @@ class PlyReader final : public ScanReader {
 
   uint64_t declared_points() const override { return vcount_; }
 
-  long read(pv_point_t *out, size_t cap, Error *err) override {
-    Error local;
-    if (!err) err = &local;
-    if (failed_) {
-      *err = sticky_;
-      return -1;
-    }
-    if (!out || cap == 0) return fail(err, "read() needs an output array and cap > 0");
-    if (cap > LONG_MAX) cap = LONG_MAX;
+  long read_points(pv_point_t *out, size_t cap, Error *err) override {
     if (!skipped_before_) {
       for (size_t e = 0; e < vindex_; ++e)
         if (!skip_element(elements_[e], err)) return -1;
@@ -80,11 +71,9 @@ class PlyReader final : public ScanReader {
       checked_tail_ = true;
       if (vindex_ + 1 == elements_.size() && !check_tail(err)) return -1;
     }
-    // At the end the progress is complete even if elements after the data
-    // (PLY faces, ...) were not read.
-    bytes_consumed_ = n == 0 ? bytes_total_ : src_.offset();
     return static_cast<long>(n);
   }
+  uint64_t position() const override { return src_.offset(); }
 
  private:
   // ---- header --------------------------------------------------------
@@ -233,13 +222,10 @@ class PlyReader final : public ScanReader {
 
   // ---- errors --------------------------------------------------------
   long fail(Error *err, std::string msg) {
-    failed_ = true;
-    sticky_ = Error{};
-    sticky_.message = std::move(msg);
-    if (ascii_) sticky_.line = line_;
-    else sticky_.byte_offset = src_.offset();
-    bytes_consumed_ = src_.offset();
-    *err = sticky_;
+    *err = Error{};
+    err->message = std::move(msg);
+    if (ascii_) err->line = line_;
+    else err->byte_offset = src_.offset();
     return -1;
   }
   bool fail_b(Error *err, std::string msg) {
@@ -441,8 +427,7 @@ class PlyReader final : public ScanReader {
   size_t axis_[3] = {0, 0, 0};
   uint64_t vcount_ = 0, done_ = 0, line_ = 0;
   bool ascii_ = false, big_endian_ = false;
-  bool skipped_before_ = false, checked_tail_ = false, failed_ = false;
-  Error sticky_;
+  bool skipped_before_ = false, checked_tail_ = false;
 };
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "scanio/scan_reader.h"
 
+#include <climits>
 #include <new>
 
 #include "scanio/byte_source.h"
@@ -9,6 +10,32 @@ namespace pv::scanio {
 ScanReader::~ScanReader() = default;
 
 uint64_t ScanReader::declared_points() const { return 0; }
+
+long ScanReader::read(pv_point_t *out, size_t cap, Error *err) {
+  Error local;
+  if (err == nullptr) err = &local;
+  if (failed_) {
+    *err = sticky_;
+    return -1;
+  }
+  long n = -1;
+  if (out == nullptr || cap == 0) {
+    *err = Error{};
+    err->message = "read() needs an output array and cap > 0";
+  } else {
+    n = read_points(out, cap > size_t(LONG_MAX) ? size_t(LONG_MAX) : cap, err);
+  }
+  if (n < 0) {
+    failed_ = true;
+    sticky_ = *err;
+    bytes_consumed_ = position();
+    return -1;
+  }
+  // At the end the progress is complete even if elements after the data
+  // (PLY faces, ...) were not read.
+  bytes_consumed_ = n == 0 ? bytes_total_ : position();
+  return n;
+}
 
 static std::string lower(std::string s) {
   for (char &c : s)

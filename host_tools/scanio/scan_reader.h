@@ -75,8 +75,9 @@ class ScanReader {
 
   // Reads up to cap points into out. Returns the number read (0 = end of
   // data), or -1 with *err filled (err may be NULL). cap == 0 or out == NULL
-  // is an error (-1), so that 0 always means the end.
-  virtual long read(pv_point_t *out, size_t cap, Error *err) = 0;
+  // is an error (-1), so that 0 always means the end. After an error every
+  // later call returns -1 with the same error.
+  long read(pv_point_t *out, size_t cap, Error *err);
   // Point count from the header if the format declares it, else 0.
   virtual uint64_t declared_points() const;
 
@@ -88,9 +89,18 @@ class ScanReader {
 
  protected:
   explicit ScanReader(Format f) : format_(f) {}
+  // The format's own reading, behind read(): out != NULL, 1 <= cap <=
+  // LONG_MAX, err != NULL. Returns the count (0 = end) or -1 with *err filled.
+  virtual long read_points(pv_point_t *out, size_t cap, Error *err) = 0;
+  // Byte offset reached in the file, for bytes_consumed().
+  virtual uint64_t position() const = 0;
   uint64_t bytes_total_ = 0;
   uint64_t bytes_consumed_ = 0;
   Format format_;
+
+ private:
+  bool failed_ = false;
+  Error sticky_;
 };
 
 // Opens path and parses its header. nullptr with *err filled on failure

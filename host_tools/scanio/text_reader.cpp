@@ -1,5 +1,4 @@
 // XYZ / ASC / TXT / CSV: one point per line, x y z = first three numbers.
-#include <climits>
 
 #include "scanio/byte_source.h"
 
@@ -18,13 +17,7 @@ class TextReader final : public ScanReader {
     return true;
   }
 
-  long read(pv_point_t *out, size_t cap, Error *err) override {
-    Error local;
-    if (!err) err = &local;
-    if (failed_) return fail_again(err);
-    if (!out || cap == 0)
-      return fail(err, "read() needs an output array and cap > 0", 0);
-    if (cap > LONG_MAX) cap = LONG_MAX;
+  long read_points(pv_point_t *out, size_t cap, Error *err) override {
     size_t n = 0;
     while (n < cap && !done_) {
       std::string_view line;
@@ -52,9 +45,9 @@ class TextReader final : public ScanReader {
       if (parse_line(line, &out[n], err) < 0) return -1;
       if (got_point_) ++n;
     }
-    bytes_consumed_ = n == 0 ? bytes_total_ : src_.offset();
     return static_cast<long>(n);
   }
+  uint64_t position() const override { return src_.offset(); }
 
  private:
   // Sets got_point_; -1 on error.
@@ -106,23 +99,16 @@ class TextReader final : public ScanReader {
   }
 
   int fail(Error *err, std::string msg, uint64_t line) {
-    failed_ = true;
-    sticky_.message = std::move(msg);
-    sticky_.line = line;
-    sticky_.byte_offset = src_.offset();
-    bytes_consumed_ = src_.offset();
-    *err = sticky_;
-    return -1;
-  }
-  int fail_again(Error *err) {
-    *err = sticky_;
+    *err = Error{};
+    err->message = std::move(msg);
+    err->line = line;
+    err->byte_offset = src_.offset();
     return -1;
   }
 
   ByteSource src_;
   uint64_t line_ = 0, points_ = 0, header_lines_ = 0;
-  bool got_point_ = false, failed_ = false, done_ = false;
-  Error sticky_;
+  bool got_point_ = false, done_ = false;
 };
 
 }  // namespace
