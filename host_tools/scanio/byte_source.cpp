@@ -227,4 +227,28 @@ float to_float(double d) {
   return static_cast<float>(d);  // NaN stays NaN
 }
 
+ByteSource::Tail ByteSource::rest_of_file(bool ascii, uint64_t *line) {
+  if (ascii) {
+    std::string_view text;
+    for (;;) {
+      const Line r = read_line(&text);
+      if (r == Line::End) return Tail::Clean;
+      if (r == Line::ReadError) return Tail::ReadError;
+      ++*line;
+      if (r == Line::TooLong) return Tail::Data;
+      for (char c : text) {
+        if (c != ' ' && c != '\t' && c != '\r') return Tail::Data;
+      }
+    }
+  }
+  ensure(3);
+  const size_t n = avail();
+  const unsigned char *d = data();
+  if (n == 0 || (n == 1 && d[0] == '\n') || (n == 2 && d[0] == '\r' && d[1] == '\n')) {
+    advance(n);
+    return Tail::Clean;
+  }
+  return read_failed() ? Tail::ReadError : Tail::Data;
+}
+
 }  // namespace pv::scanio::detail

@@ -47,6 +47,11 @@ class ByteSource {
   enum class Line { Ok, End, TooLong, ReadError };
   Line read_line(std::string_view *line);
 
+  // What follows the declared data: only blank lines (ascii; *line counts
+  // the lines read) or at most one line break (binary) is Clean.
+  enum class Tail { Clean, Data, ReadError };
+  Tail rest_of_file(bool ascii, uint64_t *line);
+
  private:
   std::FILE *f_ = nullptr;
   std::string path_;

@@ -269,28 +269,10 @@ class PcdReader final : public ScanReader {
   // After POINTS points only whitespace (ascii) or nothing / one line break
   // (binary) may follow.
   bool check_tail(Error *err) {
-    if (ascii_) {
-      std::string_view line;
-      for (;;) {
-        ByteSource::Line r = src_.read_line(&line);
-        if (r == ByteSource::Line::End) return true;
-        if (r == ByteSource::Line::ReadError) return fail_b(err, src_.read_error_text());
-        ++line_;
-        if (r == ByteSource::Line::TooLong) break;
-        bool blank = true;
-        for (char c : line)
-          if (c != ' ' && c != '\t' && c != '\r') blank = false;
-        if (!blank) break;
-      }
-    } else {
-      src_.ensure(3);
-      size_t n = src_.avail();
-      const unsigned char *d = src_.data();
-      if (n == 0 || (n == 1 && d[0] == '\n') || (n == 2 && d[0] == '\r' && d[1] == '\n')) {
-        src_.advance(n);
-        return true;
-      }
-      if (src_.read_failed()) return fail_b(err, src_.read_error_text());
+    switch (src_.rest_of_file(ascii_, &line_)) {
+      case ByteSource::Tail::Clean: return true;
+      case ByteSource::Tail::ReadError: return fail_b(err, src_.read_error_text());
+      case ByteSource::Tail::Data: break;
     }
     return fail_b(err, "data continues after the " + std::to_string(points_) +
                            " points declared" + where() +
