@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "common/geometry.h"
+
 namespace pv::gridding {
 
 struct Grid {
@@ -28,6 +30,30 @@ struct Grid {
   double z_of(uint32_t j) const { return (double(j) - double(below)) * layer_mm; }
   double top_mm() const { return z_of(layers - 1); }
 };
+
+// The ingest path's form of Grid::layer_of(levelled z): the levelling row,
+// the 1/dz scale and the offsets folded into one dot product, and floor()
+// replaced by truncation of a value known to be >= 0. A division and a
+// floor() per point were the largest cost of push() (the baseline x86-64
+// ISA has no rounding instruction). It may differ from layer_of() in the
+// last bit at a layer boundary; it only chooses the provisional bin, and
+// finish() re-assigns every point with layer_of().
+struct LayerMap {
+  double a = 0, b = 0, c = 0, d = 0;  // q = a x + b y + c z + d
+  double layers = 0;
+  int64_t layer_of(const P3 &p) const {
+    const double q = a * p.x_mm + b * p.y_mm + c * p.z_mm + d;
+    if (!(q >= 0.0) || q >= layers) return -1;
+    return int64_t(q);
+  }
+};
+
+// level_row, level_t_z: z_levelled = level_row . p + level_t_z.
+inline LayerMap layer_map(const Grid &g, const double level_row[3], double level_t_z) {
+  const double inv = 1.0 / g.layer_mm;
+  return LayerMap{level_row[0] * inv, level_row[1] * inv, level_row[2] * inv,
+                  level_t_z * inv + double(g.below) + 0.5, double(g.layers)};
+}
 
 // Layers kept below the bottom plane: a few millimetres, at least 2 layers.
 inline uint32_t layers_below(double layer_mm) {

@@ -124,10 +124,32 @@ size_t floor_score(const Eigen::Vector3d *a, size_t n, const Eigen::Matrix3d &R,
   return axis_count(s.b, n, z.lo - slab_mm, z.lo + slab_mm, s.v);
 }
 
+// Starts from both ends of the scanner's Z: a scan may be upside down, and
+// from the wrong end the fit can settle on the opening or a wall. Keeps the
+// result whose low end is most like a floor.
+bool best_of_both_ends(const Eigen::Vector3d *a, size_t n, const Params &p,
+                       const RansacParams &rp, const Scratch &s, Eigen::Matrix3d *R,
+                       Report *report) {
+  Eigen::Matrix3d R_up = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d R_down = half_turn_x();
+  Report rep_up, rep_down;
+  const bool ok_up = converge(a, n, p, rp, s, &R_up, &rep_up);
+  const bool ok_down = converge(a, n, p, rp, s, &R_down, &rep_down);
+  if (!ok_up && !ok_down) return false;
+  const double slab = 2.0 * rp.tol_mm;
+  const size_t score_up = ok_up ? floor_score(a, n, R_up, slab, s) : 0;
+  const size_t score_down = ok_down ? floor_score(a, n, R_down, slab, s) : 0;
+  const bool use_up = ok_up && (!ok_down || score_up >= score_down);
+  *R = use_up ? R_up : R_down;
+  *report = use_up ? rep_up : rep_down;
+  report->flipped = !use_up;
+  return true;
+}
+
 }  // namespace
 
 Status estimate(const P3 *pts, size_t n, const Params &p, const Scratch &s,
-                Transform *out, Report *report) {
+                Transform *out, Report *report, const Eigen::Matrix3d *start) {
   *report = Report{};
   if (n < kMinPoints) return Status::TooFewPoints;
 
@@ -144,23 +166,14 @@ Status estimate(const P3 *pts, size_t n, const Params &p, const Scratch &s,
   RansacParams rp;
   rp.iterations = p.ransac_iterations;
   rp.tol_mm = p.plane_tol_ratio * extent;
-  const double slab = 2.0 * rp.tol_mm;
+  Eigen::Matrix3d R;
+  if (start != nullptr) {
+    R = *start;
+    if (!converge(s.a, n, p, rp, s, &R, report)) return Status::NoPlane;
+  } else if (!best_of_both_ends(s.a, n, p, rp, s, &R, report)) {
+    return Status::NoPlane;
+  }
 
-  // Start from both ends of the scanner's Z: a scan may be upside down, and
-  // from the wrong end the fit can settle on the opening or a wall. Keep the
-  // result whose low end is most like a floor.
-  Eigen::Matrix3d R_up = Eigen::Matrix3d::Identity();
-  Eigen::Matrix3d R_down = half_turn_x();
-  Report rep_up, rep_down;
-  const bool ok_up = converge(s.a, n, p, rp, s, &R_up, &rep_up);
-  const bool ok_down = converge(s.a, n, p, rp, s, &R_down, &rep_down);
-  if (!ok_up && !ok_down) return Status::NoPlane;
-  const size_t score_up = ok_up ? floor_score(s.a, n, R_up, slab, s) : 0;
-  const size_t score_down = ok_down ? floor_score(s.a, n, R_down, slab, s) : 0;
-  const bool use_up = ok_up && (!ok_down || score_up >= score_down);
-  const Eigen::Matrix3d R = use_up ? R_up : R_down;
-  *report = use_up ? rep_up : rep_down;
-  report->flipped = !use_up;
 
   // Translation: the bottom plane at z = 0. Evaluate the final plane height
   // in the final frame from the final inliers.

@@ -72,8 +72,12 @@ struct Scratch {
 
 constexpr uint32_t kMinPoints = 64;
 
+// start: NULL for the full fit (from both ends, see above). A previous
+// rotation to refine from instead: one start, fewer rounds. The session uses
+// it for its provisional refinements only; the final fit is always the full
+// one, so the result does not depend on when refinements happened.
 Status estimate(const P3 *pts, size_t n, const Params &p, const Scratch &s,
-                Transform *out, Report *report);
+                Transform *out, Report *report, const Eigen::Matrix3d *start = nullptr);
 
 }  // namespace pv::levelling
 

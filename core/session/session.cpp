@@ -22,8 +22,14 @@ bool valid_point(const pv_point_t &p) {
          std::fabs(p.z_mm) < kAbsurdMm;
 }
 
+void set_provisional(pv_session *s, const levelling::Transform &t) {
+  s->provisional = t;
+  const double row[3] = {t.R(2, 0), t.R(2, 1), t.R(2, 2)};
+  s->provisional_map = gridding::layer_map(s->grid, row, t.t.z());
+}
+
 void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
-  const int64_t j = s->grid.layer_of(s->provisional.level_z(p));
+  const int64_t j = s->provisional_map.layer_of(p);
   if (j < 0) {
     ++s->points_out_of_range;
     return;
@@ -34,8 +40,13 @@ void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
 // Re-estimates the provisional plane from the sample. Later points are
 // binned with it; points already binned are re-assigned at finish.
 void refine(pv_session *s) {
+  // The first fit searches both orientations; later ones refine the last.
   levelling::Transform t;
-  if (fit_sample(s, &t) == levelling::Status::Ok) s->provisional = t;
+  const Eigen::Matrix3d *from = s->have_fit ? &s->provisional.R : nullptr;
+  if (fit_sample(s, &t, from) == levelling::Status::Ok) {
+    set_provisional(s, t);
+    s->have_fit = true;
+  }
   // On failure keep the previous transform (identity at first): binning
   // still works, only the bins' thinning is less even until the next try.
   s->have_transform = true;
@@ -44,7 +55,8 @@ void refine(pv_session *s) {
 
 }  // namespace
 
-levelling::Status fit_sample(pv_session *s, levelling::Transform *t) {
+levelling::Status fit_sample(pv_session *s, levelling::Transform *t,
+                             const Eigen::Matrix3d *start) {
   s->sample.canonical(s->sample_sorted);
   const uint32_t n = s->sample.size();
   for (uint32_t i = 0; i < n; ++i) s->sample_points[i] = s->sample_sorted[i].p;
@@ -53,7 +65,7 @@ levelling::Status fit_sample(pv_session *s, levelling::Transform *t) {
   p.plane_tol_ratio = s->cfg.plane_tol_ratio;
   p.ransac_iterations = s->cfg.ransac_iterations;
   levelling::Report rep;
-  return levelling::estimate(s->sample_points, n, p, s->lv, t, &rep);
+  return levelling::estimate(s->sample_points, n, p, s->lv, t, &rep, start);
 }
 
 void establish_transform(pv_session *s) {
@@ -115,8 +127,9 @@ void reset_counters(pv_session *s) {
   s->finished = false;
   s->points_in = s->points_invalid = s->points_out_of_range = 0;
   s->sample.clear();
-  s->provisional = levelling::Transform{};
+  session::set_provisional(s, levelling::Transform{});
   s->have_transform = false;
+  s->have_fit = false;
   s->next_refine_at = 0;
   s->warmup_count = 0;
   s->bins.clear();

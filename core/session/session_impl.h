@@ -67,7 +67,9 @@ struct pv_session {
   pv::P3 *sample_points;
   pv::levelling::Scratch lv;
   pv::levelling::Transform provisional;
+  pv::gridding::LayerMap provisional_map;  // provisional, folded for push()
   bool have_transform;
+  bool have_fit;  // the provisional transform came from a successful fit
   uint64_t next_refine_at;
 
   // Points that arrived before the first plane.
@@ -103,7 +105,9 @@ size_t layout(const pv_config_t &cfg, unsigned char *block, pv_session *s);
 // Fits the levelling transform on the canonical (sorted) sample. The
 // provisional refinements and the final fit share it, so they cannot differ
 // in anything but the points seen so far.
-levelling::Status fit_sample(pv_session *s, levelling::Transform *t);
+// start: see levelling::estimate (NULL: the full, order-independent fit).
+levelling::Status fit_sample(pv_session *s, levelling::Transform *t,
+                             const Eigen::Matrix3d *start = nullptr);
 // Makes sure a transform exists and the warm-up points are binned.
 void establish_transform(pv_session *s);
 // estimate() and finish() share this; it reads the bins, writes scratch.
