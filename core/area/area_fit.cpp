@@ -113,12 +113,24 @@ bool solve_degree(const Eigen::Matrix4d &M, const Eigen::Vector4d &r, Eigen::Vec
   return true;
 }
 
+// A piece's fitted cubic over the x-span its own points support.
+struct Fit {
+  double xa, xb;      // supported span: first and last point of the piece
+  double ya, yb;      // fitted y - y_mid at xa and xb
+  double integral;    // of the fitted y - y_mid over [xa, xb]
+  bool ok;
+};
+
 // Least-squares cubic over one piece in t = (x - xc)/hw (D5), integrated
-// exactly over the piece interval: integral of y - y_mid over [x_lo, x_hi].
-double fit_and_integrate(const XY *half, const Piece &pc, double y_mid) {
+// exactly over the span of the piece's points plus a short reach (D3): never
+// extrapolated across an interval its points do not reach, where a cubic
+// can run away (an occluded stretch of wall leaves such gaps).
+Fit fit_piece(const XY *half, const Piece &pc, double y_mid) {
+  Fit f{0, 0, 0, 0, 0, false};
+  if (pc.count == 0) return f;
   const double xc = 0.5 * (pc.x_lo + pc.x_hi);
   const double hw = 0.5 * (pc.x_hi - pc.x_lo);
-  if (!(hw > 0.0)) return 0.0;
+  if (!(hw > 0.0)) return f;
   // Normal equations X^T X a = X^T y accumulated as moments of t.
   double mom[7] = {0, 0, 0, 0, 0, 0, 0};
   Eigen::Vector4d r = Eigen::Vector4d::Zero();
@@ -138,9 +150,26 @@ double fit_and_integrate(const XY *half, const Piece &pc, double y_mid) {
   Eigen::Vector4d a;
   if (!solve_degree<3>(M, r, &a) && !solve_degree<2>(M, r, &a) && !solve_degree<1>(M, r, &a) &&
       !solve_degree<0>(M, r, &a))
-    return 0.0;  // no points: contributes nothing (cannot happen after merging)
-  // Integral of a0 + a1 t + a2 t^2 + a3 t^3 over t in [-1, 1], times dx/dt = hw.
-  return hw * (2.0 * a[0] + 2.0 * a[2] / 3.0);
+    return f;
+  const auto value = [&a](double t) { return a[0] + t * (a[1] + t * (a[2] + t * a[3])); };
+  const auto primitive = [&a](double t) {
+    return t * (a[0] + t * (a[1] / 2 + t * (a[2] / 3 + t * a[3] / 4)));
+  };
+  // The fit reaches past its first and last point by up to two point
+  // spacings, within the piece's interval: over such a strip a cubic
+  // follows a convex contour better than a chord; beyond it, it can run
+  // away, so the rest is left to the chords of integrate_half().
+  const double x_first = half[pc.first].x_mm, x_last = half[pc.first + pc.count - 1].x_mm;
+  const double reach = 2.0 * (x_last - x_first) / double(pc.count > 1 ? pc.count - 1 : 1);
+  f.xa = std::max(pc.x_lo, x_first - reach);
+  f.xb = std::min(pc.x_hi, x_last + reach);
+  const double ta = (f.xa - xc) / hw;
+  const double tb = (f.xb - xc) / hw;
+  f.ya = value(ta);
+  f.yb = value(tb);
+  f.integral = hw * (primitive(tb) - primitive(ta));  // dx/dt = hw
+  f.ok = true;
+  return f;
 }
 
 // Integral of one half's piecewise fit over [x_min, x_max]; pieces reported
@@ -150,8 +179,21 @@ double integrate_half(const XY *half, size_t m, const double *breaks, uint32_t P
   Piece pieces[kMaxPieces];
   uint32_t np = split_pieces(half, m, breaks, P, pieces);
   np = merge_thin(pieces, np, min_pts);
+  // Fitted spans, joined by chords across what no piece supports: the
+  // small strips between pieces, and any stretch of contour the scan did
+  // not see. A chord is the closure the points can vouch for.
   double s = 0.0;
-  for (uint32_t k = 0; k < np; ++k) s += fit_and_integrate(half, pieces[k], y_mid);
+  bool have_prev = false;
+  double prev_x = 0.0, prev_y = 0.0;
+  for (uint32_t k = 0; k < np; ++k) {
+    const Fit f = fit_piece(half, pieces[k], y_mid);
+    if (!f.ok) continue;
+    if (have_prev) s += 0.5 * (prev_y + f.ya) * (f.xa - prev_x);
+    s += f.integral;
+    prev_x = f.xb;
+    prev_y = f.yb;
+    have_prev = true;
+  }
   *pieces_out = np;
   return s;
 }
@@ -209,6 +251,9 @@ bool fit_area(const XY *pts, size_t n, const Params &p, XY *scratch, size_t scra
   const double s_up = integrate_half(upper, nu, breaks, P, min_pts, y_mid, &res.pieces_upper);
   const double s_low = integrate_half(lower, nl, breaks, P, min_pts, y_mid, &res.pieces_lower);
   res.area_mm2 = std::fabs(s_up - s_low);
+  // A closed contour through these points lies in their bounding box; an
+  // area beyond it is a fit that ran away, not a measurement (D9).
+  if (!(res.area_mm2 <= (b.x_max - b.x_min) * (b.y_max - b.y_min))) return false;
   *out = res;
   return true;
 }
