@@ -27,6 +27,11 @@ constexpr double kEndGuardMm = 1.5;
 constexpr uint32_t kMinContourPoints = 32;
 constexpr uint32_t kMinUsableLayers = 12;
 constexpr uint64_t kMinPoints = 1000;
+// The widest band of wall, bottom to rim, that may lack a usable contour.
+// Across a wider band the volume would rest on extrapolation, not on the
+// scan: refuse instead (PV_ERR_WALL_GAP). 20 mm passes the bands that
+// cleanup removes at sharp steps (protrusion faces) in the corpus.
+constexpr double kMaxWallGapMm = 20.0;
 // pv_layer_info_t.kept of a fitted layer before the cleanup decides.
 constexpr uint8_t kUsablePending = 2;
 
@@ -226,6 +231,19 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
   out->points_used = used_points;
   if ((m - kept) * 20 > m) out->warnings |= PV_WARN_LAYERS_REJECTED;
   if (kept < kMinUsableLayers) return fail(PV_ERR_TOO_FEW_LAYERS);
+  double gap_from = 0.0, gap_to = s->seq_z[0];
+  for (size_t i = 1; i <= kept; ++i) {
+    const double lo = s->seq_z[i - 1], hi = i < kept ? s->seq_z[i] : rim_mm;
+    if (hi - lo > gap_to - gap_from) {
+      gap_from = lo;
+      gap_to = hi;
+    }
+  }
+  if (gap_to - gap_from > kMaxWallGapMm) {
+    out->gap_from_mm = gap_from;
+    out->gap_to_mm = gap_to;
+    return fail(PV_ERR_WALL_GAP);
+  }
 
   volume::Limits lim;
   lim.z_bottom_mm = 0.0;

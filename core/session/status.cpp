@@ -16,6 +16,7 @@ extern "C" const char *pv_status_name(pv_status_t status) {
     case PV_ERR_DEPTH_EXCEEDS_CAPACITY: return "PV_ERR_DEPTH_EXCEEDS_CAPACITY";
     case PV_ERR_OUT_OF_MEMORY: return "PV_ERR_OUT_OF_MEMORY";
     case PV_ERR_INTERNAL: return "PV_ERR_INTERNAL";
+    case PV_ERR_WALL_GAP: return "PV_ERR_WALL_GAP";
   }
   return "PV_ERR_UNKNOWN";
 }
@@ -54,6 +55,10 @@ extern "C" const char *pv_status_message(pv_status_t status) {
       return "the bounded working memory for finishing was not available";
     case PV_ERR_INTERNAL:
       return "internal error in the core; please report it with the scan file";
+    case PV_ERR_WALL_GAP:
+      return "a band of the pit wall has too few points to trace its outline "
+             "(gap_from_mm to gap_to_mm above the bottom); scan that part of "
+             "the wall again, closer and from several sides";
   }
   return "unknown status";
 }

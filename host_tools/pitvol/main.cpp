@@ -23,6 +23,7 @@ const char kUsage[] =
     "  --method NAME       volume method (default and only: paper)\n"
     "  --format NAME       ply, pcd, xyz, asc, csv (default: by extension)\n"
     "  --no-progress       no progress line on stderr\n"
+    "  --layers FILE       write area against height per layer (CSV)\n"
     "exit codes: 0 measured, 2 usage, 3 unreadable or invalid input,\n"
     "            4 the scan cannot support a measurement, 5 internal error\n";
 
@@ -61,6 +62,8 @@ int main(int argc, char **argv) {
       else if (opt.units == "cm") opt.scale_to_mm = 10.0;
       else if (opt.units == "m") opt.scale_to_mm = 1000.0;
       else return usage_error("--units must be mm, cm or m, not '" + opt.units + "'");
+    } else if (a == "--layers" && has_value) {
+      opt.layers_csv = argv[++i];
     } else if (a == "--config" && has_value) {
       config_path = argv[++i];
     } else if (a == "--method" && has_value) {

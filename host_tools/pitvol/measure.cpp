@@ -93,6 +93,24 @@ class Progress {
   int last_ = -1;
 };
 
+// Area against height, one row per fitted layer: the profile a QA engineer
+// plots to see where a measurement went wrong.
+bool write_layers(const std::string &path, const pv_session_t *s) {
+  size_t n = 0;
+  pv_session_layers(s, nullptr, 0, &n);
+  std::vector<pv_layer_info_t> layers(4096);
+  if (pv_session_layers(s, layers.data(), layers.size(), &n) != PV_OK) return false;
+  FILE *f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) return false;
+  std::fprintf(f, "z_mm,area_mm2,points,kept,shape\n");
+  for (size_t i = 0; i < n; ++i) {
+    const pv_layer_info_t &l = layers[i];
+    std::fprintf(f, "%.3f,%.3f,%u,%u,%s\n", double(l.z_mm), double(l.area_mm2), l.points,
+                 unsigned(l.kept), l.shape ? "crescent" : "circular");
+  }
+  return std::fclose(f) == 0;
+}
+
 struct SessionBlock {
   void *ptr = nullptr;
   ~SessionBlock() { std::free(ptr); }
@@ -162,6 +180,9 @@ int run_measure(const MeasureOptions &opt) {
   pv_result_t r{};
   const pv_status_t st = pv_session_finish(session, &r);
   const double finish_ms = ms_since(t_finish);
+  if (!opt.layers_csv.empty() && !write_layers(opt.layers_csv, session)) {
+    std::fprintf(stderr, "pitvol: cannot write %s\n", opt.layers_csv.c_str());
+  }
   const double total_ms = ms_since(t_start);
 
   std::vector<std::string> warnings;
@@ -193,6 +214,8 @@ int run_measure(const MeasureOptions &opt) {
         .integer("points_out_of_range", r.points_out_of_range)
         .integer("points_stored", r.points_stored)
         .integer("points_used", r.points_used)
+        .num("gap_from_mm", r.gap_from_mm)
+        .num("gap_to_mm", r.gap_to_mm)
         .strings("warnings", warnings)
         .raw("timings_ms", timings.text());
     std::printf("%s\n", o.text().c_str());
@@ -210,6 +233,10 @@ int run_measure(const MeasureOptions &opt) {
   }
   if (!ok) {
     std::fprintf(stderr, "pitvol: no measurement (%s): %s\n", pv_status_name(st), pv_status_message(st));
+    if (st == PV_ERR_WALL_GAP) {
+      std::fprintf(stderr, "pitvol: the wall from %.1f mm to %.1f mm above the bottom has no usable outline\n",
+                   r.gap_from_mm, r.gap_to_mm);
+    }
     return (st == PV_ERR_INTERNAL || st == PV_ERR_OUT_OF_MEMORY) ? kExitInternal : kExitNoMeasurement;
   }
   return kExitOk;

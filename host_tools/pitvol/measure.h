@@ -16,6 +16,7 @@ struct MeasureOptions {
   std::string units = "mm";
   bool json = false;
   bool progress = true;      // only shown when stderr is a terminal
+  std::string layers_csv;    // --layers FILE: per-layer detail, if not empty
   pv_config_t cfg{};
 };
 

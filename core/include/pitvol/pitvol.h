@@ -47,7 +47,8 @@ typedef enum pv_status {
   PV_ERR_TOO_FEW_LAYERS = 9,     /* too few layers with a usable contour */
   PV_ERR_DEPTH_EXCEEDS_CAPACITY = 10, /* pit deeper than max_depth_mm */
   PV_ERR_OUT_OF_MEMORY = 11,     /* bounded finish scratch unavailable */
-  PV_ERR_INTERNAL = 12           /* a bug: please report with the scan */
+  PV_ERR_INTERNAL = 12,          /* a bug: please report with the scan */
+  PV_ERR_WALL_GAP = 13           /* a band of wall has no usable contour */
 } pv_status_t;
 
 /* Short symbolic name ("PV_ERR_NO_RIM") and a sentence for the user that
@@ -125,6 +126,8 @@ typedef struct pv_result {
   double depth_mm;          /* bottom plane to rim */
   double tilt_deg;          /* angle of the bottom normal from scanner +Z */
   double rim_area_mm2;      /* cross-section of the highest kept layer */
+  double gap_from_mm;       /* widest band without a usable contour, */
+  double gap_to_mm;         /* heights above the bottom (0, 0 if none) */
   uint32_t layers_used;
   uint32_t layers_rejected; /* negative/outlier areas and unusable layers */
   uint64_t points_in;       /* every point pushed */
