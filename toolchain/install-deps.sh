@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev      # fixed-size linear algebra in the core
   libnanoflann-dev   # kNN for adaptive thinning
   libcmocka-dev      # C unit test framework
+  libembree-dev      # ray casting in the scanner simulator (host only)
   "$@"
 )
 

@@ -1,0 +1,260 @@
+// pitvol-accuracy: replays a corpus made by `pitvol-sim corpus` through the
+// product (`pitvol measure FILE --json`, the same binary a QA engineer runs)
+// and reports how accurate it is, per family and overall.
+//
+//   pitvol-accuracy DIR [--markdown] [--method NAME ...]
+//                       [--write-expected FILE] [--check FILE]
+//
+// --write-expected records each case's result and its tolerance (a tracked
+// CSV: any drift shows in the commit that caused it); --check fails every
+// case whose |error| exceeds its recorded tolerance, or that no longer
+// measures, and ends with "N passed, M failed".
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Case {
+  std::string name, family;
+  double exact_cm3 = 0;
+};
+
+struct Outcome {
+  std::string status;  // PV_OK or the failure's name
+  double volume_cm3 = NAN, error = NAN;  // error: relative
+  double points_in = 0, points_used = 0, total_ms = 0;
+};
+
+std::vector<std::string> split(const std::string &line, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string f;
+  while (std::getline(ss, f, sep)) out.push_back(f);
+  return out;
+}
+
+bool read_manifest(const std::string &dir, std::vector<Case> *cases) {
+  std::ifstream in(dir + "/manifest.csv");
+  if (!in) return false;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    const auto f = split(line, ',');
+    if (f.size() < 8) return false;
+    cases->push_back(Case{f[0], f[1], std::atof(f[7].c_str())});
+  }
+  return !cases->empty();
+}
+
+std::string json_str(const std::string &j, const std::string &key) {
+  const size_t k = j.find("\"" + key + "\": \"");
+  if (k == std::string::npos) return "";
+  const size_t a = k + key.size() + 5, b = j.find('"', a);
+  return j.substr(a, b - a);
+}
+
+double json_num(const std::string &j, const std::string &key) {
+  const size_t k = j.find("\"" + key + "\": ");
+  if (k == std::string::npos) return NAN;
+  const char *p = j.c_str() + k + key.size() + 4;
+  if (std::string(p, 4) == "null") return NAN;
+  return std::strtod(p, nullptr);
+}
+
+std::string self_dir() {
+  char buf[4096];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n <= 0) return ".";
+  std::string s(buf, size_t(n));
+  return s.substr(0, s.find_last_of('/'));
+}
+
+Outcome measure(const std::string &pitvol, const std::string &file, const std::string &method,
+                double exact_cm3) {
+  const std::string cmd = "'" + pitvol + "' measure '" + file + "' --json --no-progress --method " +
+                          method + " 2>/dev/null";
+  Outcome o;
+  FILE *p = popen(cmd.c_str(), "r");
+  if (!p) return o;
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  pclose(p);
+  o.status = json_str(out, "status");
+  if (o.status.empty()) o.status = "NO_OUTPUT";
+  o.volume_cm3 = json_num(out, "volume_cm3");
+  o.points_in = json_num(out, "points_in");
+  o.points_used = json_num(out, "points_used");
+  o.total_ms = json_num(out, "total");
+  if (o.status == "PV_OK") o.error = (o.volume_cm3 - exact_cm3) / exact_cm3;
+  return o;
+}
+
+// Tolerance for the regression check, from the measured error: a quarter
+// more than measured, at least 0.05 percentage points of headroom. A real
+// regression moves errors by more; a change that improves a case passes.
+double tolerance_pct(double error) {
+  const double e = std::fabs(error) * 100.0;
+  return e + std::max(0.05, 0.25 * e);
+}
+
+struct Stats {
+  int n = 0, failed = 0;
+  double sum_abs = 0, max_abs = 0, sum_in = 0, sum_used = 0, sum_ms = 0;
+  void add(const Outcome &o) {
+    ++n;
+    sum_in += o.points_in;
+    sum_ms += o.total_ms;
+    if (o.status != "PV_OK") {
+      ++failed;
+      return;
+    }
+    sum_used += o.points_used;
+    sum_abs += std::fabs(o.error);
+    max_abs = std::max(max_abs, std::fabs(o.error));
+  }
+  std::string row(const std::string &label, const std::string &method) const {
+    char b[512];
+    const int ok = n - failed;
+    std::snprintf(b, sizeof b, "| %s | %s | %d | %d | %s | %s | %.0f | %.0f | %.0f |", label.c_str(),
+                  method.c_str(), n, failed,
+                  ok ? fmt(100 * sum_abs / ok).c_str() : "-", ok ? fmt(100 * max_abs).c_str() : "-",
+                  sum_in / n, ok ? sum_used / ok : 0.0,
+                  sum_ms / n);
+    return b;
+  }
+  static std::string fmt(double pct) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3f %%", pct);
+    return b;
+  }
+};
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: pitvol-accuracy CORPUS_DIR [--markdown] [--method NAME ...]\n"
+               "                       [--write-expected FILE] [--check FILE]\n");
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  if (argc < 2) return usage();
+  const std::string dir = argv[1];
+  std::vector<std::string> methods;
+  std::string write_expected, check;
+  bool markdown = false;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--markdown") markdown = true;
+    else if (a == "--method" && i + 1 < argc) methods.push_back(argv[++i]);
+    else if (a == "--write-expected" && i + 1 < argc) write_expected = argv[++i];
+    else if (a == "--check" && i + 1 < argc) check = argv[++i];
+    else return usage();
+  }
+  if (methods.empty()) methods.push_back("paper");  // every method the core offers
+  std::vector<Case> cases;
+  if (!read_manifest(dir, &cases)) {
+    std::fprintf(stderr, "pitvol-accuracy: no usable %s/manifest.csv (run pitvol-sim corpus --out %s)\n",
+                 dir.c_str(), dir.c_str());
+    return 3;
+  }
+  const std::string pitvol = self_dir() + "/pitvol";
+
+  std::map<std::string, std::map<std::string, Outcome>> results;  // method -> case
+  for (const std::string &m : methods) {
+    for (const Case &c : cases) results[m][c.name] = measure(pitvol, dir + "/" + c.name + ".ply", m, c.exact_cm3);
+  }
+
+  // Per case, then per family and overall.
+  std::printf("%s", markdown ? "| case | method | exact cm3 | measured cm3 | error | status |\n|---|---|---|---|---|---|\n" : "");
+  for (const std::string &m : methods) {
+    for (const Case &c : cases) {
+      const Outcome &o = results[m][c.name];
+      if (markdown) {
+        std::printf("| %s | %s | %.2f | %.2f | %+.3f %% | %s |\n", c.name.c_str(), m.c_str(),
+                    c.exact_cm3, o.volume_cm3, 100 * o.error, o.status.c_str());
+      } else {
+        std::printf("%-24s %-6s exact %10.2f  measured %10.2f  error %+8.3f %%  %s\n", c.name.c_str(),
+                    m.c_str(), c.exact_cm3, o.volume_cm3, 100 * o.error, o.status.c_str());
+      }
+    }
+  }
+  std::printf("\n| family | method | cases | no measurement | mean abs error | max abs error | "
+              "points in | points used | ms per case |\n|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::string &m : methods) {
+    std::map<std::string, Stats> fam;
+    std::vector<std::string> order;
+    Stats all;
+    for (const Case &c : cases) {
+      if (!fam.count(c.family)) order.push_back(c.family);
+      fam[c.family].add(results[m][c.name]);
+      all.add(results[m][c.name]);
+    }
+    for (const std::string &f : order) std::printf("%s\n", fam[f].row(f, m).c_str());
+    std::printf("%s\n", all.row("**all**", m).c_str());
+  }
+
+  const std::string &m0 = methods[0];
+  if (!write_expected.empty()) {
+    std::ofstream out(write_expected);
+    out << "case,family,exact_volume_cm3,measured_volume_cm3,error_pct,tolerance_pct,status\n";
+    char b[256];
+    for (const Case &c : cases) {
+      const Outcome &o = results[m0][c.name];
+      std::snprintf(b, sizeof b, "%s,%s,%.6f,%.6f,%.4f,%.4f,%s\n", c.name.c_str(), c.family.c_str(),
+                    c.exact_cm3, o.volume_cm3, 100 * o.error,
+                    o.status == "PV_OK" ? tolerance_pct(o.error) : 0.0, o.status.c_str());
+      out << b;
+    }
+    if (!out) {
+      std::fprintf(stderr, "pitvol-accuracy: cannot write %s\n", write_expected.c_str());
+      return 3;
+    }
+  }
+  if (check.empty()) return 0;
+  std::ifstream in(check);
+  if (!in) {
+    std::fprintf(stderr, "pitvol-accuracy: cannot read %s\n", check.c_str());
+    return 3;
+  }
+  std::string line;
+  std::getline(in, line);
+  int passed = 0, failed = 0;
+  while (std::getline(in, line)) {
+    const auto f = split(line, ',');
+    if (f.size() < 7) continue;
+    const auto it = results[m0].find(f[0]);
+    if (it == results[m0].end()) {
+      std::printf("FAIL %s: in %s but not in the corpus\n", f[0].c_str(), check.c_str());
+      ++failed;
+      continue;
+    }
+    const Outcome &o = it->second;
+    const double tol = std::atof(f[5].c_str());
+    bool ok;
+    if (f[6] != "PV_OK") {
+      ok = o.status != "PV_OK" || std::fabs(100 * o.error) <= 0.3;  // still refuses, or now measures well
+    } else {
+      ok = o.status == "PV_OK" && std::fabs(100 * o.error) <= tol;
+    }
+    if (!ok) {
+      std::printf("FAIL %s: error %+.3f %% (%s), tolerance %.3f %%, recorded %s %s %%\n", f[0].c_str(),
+                  100 * o.error, o.status.c_str(), tol, f[6].c_str(), f[4].c_str());
+    }
+    (ok ? passed : failed)++;
+  }
+  std::printf("\ncorpus: %d passed, %d failed\n", passed, failed);
+  return failed == 0 ? 0 : 1;
+}

@@ -1,0 +1,62 @@
+// A simulated handheld structured-light scan of a Pit.
+//
+// A scanner pose moves on a path above and around the pit, looking in; each
+// frame casts a grid of rays over the field of view (Embree 3), keeps the
+// first hit (occlusion), adds range noise along the ray, replaces a share of
+// hits by multipath points floating in the void in front of the wall, and
+// adds a few far strays. Density comes out uneven the way real scans are:
+// dense floor from overlapping views, sparse steep upper walls, shadows
+// under overhangs. Finally one random rigid transform (tilt, yaw, offset)
+// puts the cloud in the scanner's world frame, so it is not level.
+// Deterministic in (pit, params).
+#ifndef PV_SIM_HANDHELD_SCAN_H
+#define PV_SIM_HANDHELD_SCAN_H
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "pitvol/pitvol.h"
+#include "sim/pit_geometry.h"
+
+namespace pv::sim {
+
+struct ScanParams {
+  uint64_t seed = 1;
+  uint32_t target_points = 300000;  // stop after the frame that reaches it
+  double noise_mm = 0.05;           // sigma along the ray (0.02 .. 0.2)
+  double multipath_share = 0.01;    // hits replaced by floating points
+  double stray_share = 0.0005;      // far strays
+  double max_tilt_deg = 25.0;       // random tilt in [0, max]; any yaw
+  double fov_deg = 50.0;
+  uint32_t rays_x = 80, rays_y = 60;  // ray grid per frame
+  double frames_per_s = 20.0;       // timestamps of the frame stream
+};
+
+struct Frame {
+  uint32_t sequence;
+  uint64_t timestamp_us;
+  std::vector<pv_point_t> points;  // world frame, millimetres
+};
+
+class HandheldScan {
+ public:
+  HandheldScan(const Pit &pit, const ScanParams &p);
+  ~HandheldScan();
+  HandheldScan(const HandheldScan &) = delete;
+  HandheldScan &operator=(const HandheldScan &) = delete;
+  // Next frame; false when the scan is complete (target reached or the path
+  // ended). Frames may hold 0 points.
+  bool next(Frame *out);
+  // The applied rigid transform, world = R * pit + t (row-major R).
+  void transform(double R[9], double t[3]) const;
+  double tilt_deg() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pv::sim
+
+#endif
