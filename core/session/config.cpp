@@ -40,7 +40,7 @@ bool in_range(float v, float lo, float hi) { return std::isfinite(v) && v >= lo 
 extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **field_out) {
   const char *bad = nullptr;
   if (cfg == nullptr) return PV_ERR_INVALID_ARGUMENT;
-  if (cfg->method != PV_METHOD_PAPER) bad = "method";
+  if (cfg->method != PV_METHOD_PAPER && cfg->method != PV_METHOD_POLAR) bad = "method";
   else if (cfg->max_layers < 64 || cfg->max_layers > 65536) bad = "max_layers";
   else if (cfg->points_per_layer < 64 || cfg->points_per_layer > (1u << 20)) bad = "points_per_layer";
   else if (uint64_t(cfg->max_layers) * cfg->points_per_layer > (1ull << 31)) bad = "points_per_layer";
@@ -72,9 +72,17 @@ extern "C" pv_status_t pv_method_from_name(const char *name, pv_method_t *out) {
     *out = PV_METHOD_PAPER;
     return PV_OK;
   }
+  if (std::strcmp(name, "polar") == 0) {
+    *out = PV_METHOD_POLAR;
+    return PV_OK;
+  }
   return PV_ERR_INVALID_ARGUMENT;
 }
 
 extern "C" const char *pv_method_name(pv_method_t method) {
-  return method == PV_METHOD_PAPER ? "paper" : "unknown";
+  switch (method) {
+    case PV_METHOD_PAPER: return "paper";
+    case PV_METHOD_POLAR: return "polar";
+  }
+  return "unknown";
 }

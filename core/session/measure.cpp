@@ -115,6 +115,22 @@ LayerOutcome process_layer(pv_session *s, size_t n) {
   tp.s0_mm = s->cfg.thin_base_mm;
   n = thinning::thin_layer(s->layer_pts, n, tp, s->thin_ws);
 
+  if (s->cfg.method == PV_METHOD_POLAR) {
+    // The trimmed periodic fit does its own outlier rejection (see
+    // area/polar_area.h), in place of the paper's clustering bands.
+    area::PolarResult pr;
+    if (n < kMinContourPoints ||
+        !area::polar_area(s->layer_pts, n, area::PolarParams{}, s->polar_scratch,
+                          s->polar_scratch_cap, &pr)) {
+      o.points = uint32_t(n);
+      return o;
+    }
+    o.points = pr.points_used;
+    o.area_mm2 = pr.area_mm2;
+    o.usable = true;
+    return o;
+  }
+
   clustering::Params cp;
   cp.crescent_range_mm = s->cfg.crescent_range_mm;
   cp.crescent_cross_mm = s->cfg.crescent_cross_mm;

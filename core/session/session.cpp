@@ -108,6 +108,8 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->cluster_scratch = cv.take<double>(work);
   o->area_scratch_cap = area_scratch_points(work);
   o->area_scratch = cv.take<XY>(o->area_scratch_cap);
+  o->polar_scratch_cap = area::polar_scratch_needed(work);
+  o->polar_scratch = cv.take<double>(o->polar_scratch_cap);
   o->seq_z = cv.take<double>(layers);
   o->seq_area = cv.take<double>(layers);
   o->seq_keep = cv.take<uint8_t>(layers);

@@ -12,6 +12,7 @@
 #include "levelling/levelling.h"
 #include "pitvol/pitvol.h"
 #include "area/area_fit.h"
+#include "area/polar_area.h"
 #include "cleanup/mad_filter.h"
 #include "thinning/adaptive_thinning.h"
 #include "volume/volume.h"
@@ -89,6 +90,8 @@ struct pv_session {
   size_t cluster_scratch_cap;
   pv::XY *area_scratch;
   size_t area_scratch_cap;
+  double *polar_scratch;  // method polar only
+  size_t polar_scratch_cap;
   double *seq_z;          // layers
   double *seq_area;       // layers
   uint8_t *seq_keep;      // layers

@@ -57,10 +57,12 @@ const char *pv_status_name(pv_status_t status);
 const char *pv_status_message(pv_status_t status);
 
 typedef enum pv_method {
-  PV_METHOD_PAPER = 0 /* Han et al., Sensors 2026, 26(10), 3150 */
+  PV_METHOD_PAPER = 0, /* Han et al., Sensors 2026, 26(10), 3150 */
+  PV_METHOD_POLAR = 1  /* paper, with a trimmed Fourier r(theta) area per
+                          layer instead of clustering + y(x) cubics */
 } pv_method_t;
 
-/* "paper" <-> PV_METHOD_PAPER. Returns PV_ERR_INVALID_ARGUMENT if unknown. */
+/* "paper" / "polar" <-> the enum. PV_ERR_INVALID_ARGUMENT if unknown. */
 pv_status_t pv_method_from_name(const char *name, pv_method_t *out);
 const char *pv_method_name(pv_method_t method);
 
