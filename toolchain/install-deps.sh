@@ -10,6 +10,8 @@ packages=(
   libnanoflann-dev   # kNN for adaptive thinning
   libcmocka-dev      # C unit test framework
   libembree-dev      # ray casting in the scanner simulator (host only)
+  libusb-1.0-0-dev   # the scanner's USB driver (drivers/usb)
+  umockdev libumockdev-dev  # emulated USB scanner for the usb tests
   "$@"
 )
 

@@ -1,0 +1,318 @@
+// pitvol-usb-replay: replays a .frames file through an emulated USB scanner
+// (umockdev) and the REAL libusb driver into a core session, and prints the
+// volume like `pitvol measure` plus the driver's and the emulator's counters.
+//
+//   pitvol-usb-replay FILE.frames [--json] [--bench] [faults...]
+//     --corrupt RATE     flip the CRC of this share of frames
+//     --drop RATE        leave out this share of frames
+//     --duplicate RATE   send this share of frames twice
+//     --seed S           for the three above and --short-reads
+//     --stall-at-frame N / --stall-at-byte B   halt the endpoint once
+//     --short-reads      URBs return a random 1..len bytes
+//     --unplug-at-frame N  unplug half way through frame N ...
+//     --replug-after MS    ... and plug back after MS (default 200)
+//     --fps F            pace the device to F average frames per second
+//     --timeout S        give up after S seconds (default 60)
+//
+// Must run under umockdev-wrapper; if it is not, it re-runs itself there.
+// Exit codes as pitvol: 0 measured, 2 usage, 3 input/USB failure,
+// 4 no measurement, 5 internal error.
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "pitvol/json_writer.h"
+#include "pitvol/pitvol.h"
+#include "pitvol/usb_scanner.h"
+#include "usb_emulator/emulated_scanner.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Sink {
+  pv_session_t *session = nullptr;
+  uint64_t points = 0;
+};
+
+void on_points(void *user, const pv_usb_frame_header_t *, const pv_point_t *pts, size_t n) {
+  auto *s = static_cast<Sink *>(user);
+  s->points += n;
+  pv_session_push(s->session, pts, n);
+}
+
+int usage(const char *why) {
+  if (why != nullptr) std::fprintf(stderr, "pitvol-usb-replay: %s\n", why);
+  std::fprintf(stderr,
+               "usage: pitvol-usb-replay FILE.frames [--json] [--bench] [--corrupt RATE] [--drop RATE]\n"
+               "         [--duplicate RATE] [--seed S] [--stall-at-frame N] [--stall-at-byte B]\n"
+               "         [--short-reads] [--unplug-at-frame N] [--replug-after MS] [--fps F]\n"
+               "         [--timeout S]\n"
+               "       (runs itself under umockdev-wrapper)\n");
+  return 2;
+}
+
+bool num(const char *s, double *out) {
+  char *end = nullptr;
+  *out = std::strtod(s, &end);
+  return end != s && *end == '\0' && std::isfinite(*out);
+}
+
+const char *state_name(pv_usb_state_t st) {
+  switch (st) {
+    case PV_USB_STATE_IDLE: return "idle";
+    case PV_USB_STATE_STREAMING: return "streaming";
+    case PV_USB_STATE_ENDED: return "ended";
+    case PV_USB_STATE_UNPLUGGED: return "unplugged";
+  }
+  return "?";
+}
+
+struct SessionBlock {
+  void *ptr = nullptr;
+  ~SessionBlock() { std::free(ptr); }
+};
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  if (argc < 2) return usage(nullptr);
+  if (!pv_emu_available() && std::getenv("PITVOL_USB_REPLAY_NO_REEXEC") == nullptr) {
+    // The emulator needs libumockdev-preload: run again under the wrapper.
+    setenv("PITVOL_USB_REPLAY_NO_REEXEC", "1", 1);
+    std::vector<char *> args;
+    args.push_back(const_cast<char *>("umockdev-wrapper"));
+    for (int i = 0; i < argc; ++i) args.push_back(argv[i]);
+    args.push_back(nullptr);
+    execvp("umockdev-wrapper", args.data());
+    std::fprintf(stderr, "pitvol-usb-replay: cannot run umockdev-wrapper (%s); install umockdev\n",
+                 std::strerror(errno));
+    return 3;
+  }
+
+  std::string path;
+  bool json = false, bench = false;
+  double fps = 0, timeout_s = 60;
+  pv_emu_options_t eo;
+  pv_emu_options_default(&eo);
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool more = i + 1 < argc;
+    double v = 0;
+    if (a == "--json") {
+      json = true;
+    } else if (a == "--bench") {
+      bench = true;
+    } else if (a == "--short-reads") {
+      eo.short_reads = 1;
+    } else if (a == "--corrupt" && more && num(argv[i + 1], &v) && v >= 0 && v <= 1) {
+      eo.corrupt_rate = v, ++i;
+    } else if (a == "--drop" && more && num(argv[i + 1], &v) && v >= 0 && v <= 1) {
+      eo.drop_rate = v, ++i;
+    } else if (a == "--duplicate" && more && num(argv[i + 1], &v) && v >= 0 && v <= 1) {
+      eo.duplicate_rate = v, ++i;
+    } else if (a == "--seed" && more && num(argv[i + 1], &v) && v >= 0) {
+      eo.seed = uint64_t(v), ++i;
+    } else if (a == "--stall-at-frame" && more && num(argv[i + 1], &v) && v >= 0) {
+      eo.stall_at_frame = int64_t(v), ++i;
+    } else if (a == "--stall-at-byte" && more && num(argv[i + 1], &v) && v >= 0) {
+      eo.stall_at_byte = int64_t(v), ++i;
+    } else if (a == "--unplug-at-frame" && more && num(argv[i + 1], &v) && v >= 0) {
+      eo.unplug_at_frame = int64_t(v), ++i;
+    } else if (a == "--replug-after" && more && num(argv[i + 1], &v) && v >= 0) {
+      eo.replug_after_ms = int(v), ++i;
+    } else if (a == "--fps" && more && num(argv[i + 1], &v) && v > 0 && v <= 10000) {
+      fps = v, ++i;
+    } else if (a == "--timeout" && more && num(argv[i + 1], &v) && v > 0) {
+      timeout_s = v, ++i;
+    } else if (!a.empty() && a[0] != '-' && path.empty()) {
+      path = a;
+    } else {
+      return usage(("unknown or incomplete option '" + a + "'").c_str());
+    }
+  }
+  if (path.empty()) return usage("a .frames file is required");
+
+  char err[512] = "";
+  pv_emu_t *emu = nullptr;
+  if (fps > 0) {
+    // Average frame size of the file paces the device at fps frames/s.
+    pv_emu_t *probe = nullptr;
+    pv_emu_options_t po;
+    pv_emu_options_default(&po);
+    if (pv_emu_create_from_file(&probe, path.c_str(), &po, err, sizeof err) != 0) {
+      std::fprintf(stderr, "pitvol-usb-replay: %s: %s\n", path.c_str(), err);
+      return 3;
+    }
+    pv_emu_stats_t ps;
+    pv_emu_stats(probe, &ps);
+    pv_emu_destroy(probe);
+    eo.interval_ms = 10;
+    eo.bytes_per_interval =
+        uint32_t(std::ceil(double(ps.bytes_out) / double(ps.frames_out) * fps / 100.0));
+  }
+  if (pv_emu_create_from_file(&emu, path.c_str(), &eo, err, sizeof err) != 0) {
+    std::fprintf(stderr, "pitvol-usb-replay: %s: %s\n", path.c_str(), err);
+    return 3;
+  }
+
+  pv_config_t cfg;
+  pv_config_default(&cfg);
+  size_t bytes = 0;
+  pv_session_size(&cfg, &bytes);
+  SessionBlock block;
+  block.ptr = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
+  Sink sink;
+  if (block.ptr == nullptr || pv_session_init(&cfg, block.ptr, bytes, &sink.session) != PV_OK) {
+    std::fprintf(stderr, "pitvol-usb-replay: cannot set up a session of %zu bytes\n", bytes);
+    pv_emu_destroy(emu);
+    return 5;
+  }
+
+  const auto t0 = Clock::now();
+  pv_usb_scanner_t *sc = nullptr;
+  pv_usb_status_t ust = pv_usb_scanner_open(&sc, on_points, &sink);
+  if (ust == PV_USB_OK) ust = pv_usb_scanner_start(sc);
+  if (ust != PV_USB_OK) {
+    std::fprintf(stderr, "pitvol-usb-replay: %s\n", pv_usb_status_message(ust));
+    pv_usb_scanner_close(sc);
+    pv_emu_destroy(emu);
+    return 3;
+  }
+  const auto t_start = Clock::now();
+  pv_usb_state_t state = PV_USB_STATE_STREAMING;
+  bool timed_out = false;
+  while (state != PV_USB_STATE_ENDED) {
+    state = pv_usb_scanner_poll(sc, 100);
+    if (std::chrono::duration<double>(Clock::now() - t0).count() > timeout_s) {
+      timed_out = true;
+      break;
+    }
+  }
+  const double stream_s = std::chrono::duration<double>(Clock::now() - t_start).count();
+  pv_usb_scanner_stats_t us;
+  pv_usb_scanner_get_stats(sc, &us);
+  pv_usb_scanner_close(sc);
+  pv_emu_stats_t es;
+  pv_emu_stats(emu, &es);
+  pv_emu_destroy(emu);
+
+  const auto t_finish = Clock::now();
+  pv_result_t r{};
+  const pv_status_t st = pv_session_finish(sink.session, &r);
+  const double finish_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_finish).count();
+  const bool ok = st == PV_OK && !timed_out;
+  const double pts_per_s = stream_s > 0 ? double(us.stream.points_ok) / stream_s : 0;
+  const double mb_per_s = stream_s > 0 ? double(us.stream.bytes_in) / stream_s / 1e6 : 0;
+
+  if (json) {
+    using pv::tools::JsonObject;
+    JsonObject usb;
+    usb.str("state", state_name(state))
+        .integer("bytes_in", us.stream.bytes_in)
+        .integer("bytes_skipped", us.stream.bytes_skipped)
+        .integer("headers_bad", us.stream.headers_bad)
+        .integer("frames_ok", us.stream.frames_ok)
+        .integer("frames_bad_crc", us.stream.frames_bad_crc)
+        .integer("frames_duplicate", us.stream.frames_duplicate)
+        .integer("sequence_gaps", us.stream.sequence_gaps)
+        .integer("frames_lost", us.stream.frames_lost)
+        .integer("points_ok", us.stream.points_ok)
+        .integer("points_nonfinite", us.stream.points_nonfinite)
+        .integer("points_out_of_range", us.stream.points_out_of_range)
+        .integer("scans_ended", us.stream.scans_ended)
+        .integer("transfers_completed", us.transfers_completed)
+        .integer("transfers_short", us.transfers_short)
+        .integer("stalls_cleared", us.stalls_cleared)
+        .integer("timeouts", us.timeouts)
+        .integer("transfer_errors", us.transfer_errors)
+        .integer("unplugs", us.unplugs)
+        .integer("replugs", us.replugs);
+    JsonObject emj;
+    emj.integer("frames_in", es.frames_in)
+        .integer("frames_out", es.frames_out)
+        .integer("frames_corrupted", es.frames_corrupted)
+        .integer("frames_dropped", es.frames_dropped)
+        .integer("frames_duplicated", es.frames_duplicated)
+        .integer("bytes_served", es.bytes_served)
+        .integer("clear_halts", es.clear_halts)
+        .integer("unplugs", es.unplugs)
+        .integer("replugs", es.replugs);
+    JsonObject timings;
+    timings.num("stream", stream_s * 1000.0).num("finish", finish_ms);
+    JsonObject o;
+    o.str("pitvol_version", PV_VERSION_STRING)
+        .str("method", pv_method_name(cfg.method))
+        .str("file", path)
+        .str("status", timed_out ? "PV_ERR_USB_TIMEOUT" : pv_status_name(st))
+        .str("message", timed_out ? "the scan did not end in time" : pv_status_message(st));
+    if (ok) {
+      o.num("volume_cm3", r.volume_cm3).num("depth_mm", r.depth_mm);
+    } else {
+      o.null("volume_cm3").null("depth_mm");
+    }
+    o.num("tilt_deg", r.tilt_deg)
+        .integer("layers_used", r.layers_used)
+        .integer("layers_rejected", r.layers_rejected)
+        .integer("points_in", r.points_in)
+        .integer("points_invalid", r.points_invalid)
+        .integer("points_out_of_range", r.points_out_of_range)
+        .integer("points_stored", r.points_stored)
+        .integer("points_used", r.points_used)
+        .raw("usb", usb.text())
+        .raw("emulator", emj.text())
+        .raw("timings_ms", timings.text());
+    if (bench) o.num("points_per_s", pts_per_s).num("mb_per_s", mb_per_s);
+    std::printf("%s\n", o.text().c_str());
+  } else {
+    if (ok) {
+      std::printf("pit volume     %.1f cm3\n", r.volume_cm3);
+      std::printf("depth          %.1f mm\n", r.depth_mm);
+      std::printf("tilt           %.2f deg\n", r.tilt_deg);
+      std::printf("layers         %u used, %u rejected\n", r.layers_used, r.layers_rejected);
+      std::printf("points         %llu in, %llu used\n", (unsigned long long)r.points_in,
+                  (unsigned long long)r.points_used);
+      std::printf("method         %s (pitvol %s)\n", pv_method_name(cfg.method), PV_VERSION_STRING);
+    }
+    std::printf("usb state      %s\n", state_name(state));
+    std::printf("usb frames     %llu ok, %llu bad crc, %llu duplicate, %llu lost in %llu gaps\n",
+                (unsigned long long)us.stream.frames_ok, (unsigned long long)us.stream.frames_bad_crc,
+                (unsigned long long)us.stream.frames_duplicate, (unsigned long long)us.stream.frames_lost,
+                (unsigned long long)us.stream.sequence_gaps);
+    std::printf("usb bytes      %llu in, %llu skipped, %llu bad headers\n",
+                (unsigned long long)us.stream.bytes_in, (unsigned long long)us.stream.bytes_skipped,
+                (unsigned long long)us.stream.headers_bad);
+    std::printf("usb transfers  %llu completed (%llu short), %llu stalls cleared, %llu timeouts, %llu errors\n",
+                (unsigned long long)us.transfers_completed, (unsigned long long)us.transfers_short,
+                (unsigned long long)us.stalls_cleared, (unsigned long long)us.timeouts,
+                (unsigned long long)us.transfer_errors);
+    std::printf("usb plug       %llu unplugs, %llu replugs\n", (unsigned long long)us.unplugs,
+                (unsigned long long)us.replugs);
+    std::printf("emulator       %llu frames (%llu corrupted, %llu dropped, %llu duplicated), %llu bytes served\n",
+                (unsigned long long)es.frames_out, (unsigned long long)es.frames_corrupted,
+                (unsigned long long)es.frames_dropped, (unsigned long long)es.frames_duplicated,
+                (unsigned long long)es.bytes_served);
+    if (bench) {
+      std::printf("bench          %.0f points/s, %.1f MB/s (%llu points in %.3f s)\n", pts_per_s,
+                  mb_per_s, (unsigned long long)us.stream.points_ok, stream_s);
+    }
+  }
+  if (timed_out) {
+    std::fprintf(stderr, "pitvol-usb-replay: the scan did not end within %.0f s (state %s)\n", timeout_s,
+                 state_name(state));
+    return 3;
+  }
+  if (st != PV_OK) {
+    std::fprintf(stderr, "pitvol-usb-replay: no measurement (%s): %s\n", pv_status_name(st),
+                 pv_status_message(st));
+    return (st == PV_ERR_INTERNAL || st == PV_ERR_OUT_OF_MEMORY) ? 5 : 4;
+  }
+  return 0;
+}
