@@ -155,14 +155,16 @@ Fit fit_piece(const XY *half, const Piece &pc, double y_mid) {
   const auto primitive = [&a](double t) {
     return t * (a[0] + t * (a[1] / 2 + t * (a[2] / 3 + t * a[3] / 4)));
   };
-  // The fit reaches past its first and last point by up to two point
-  // spacings, within the piece's interval: over such a strip a cubic
-  // follows a convex contour better than a chord; beyond it, it can run
-  // away, so the rest is left to the chords of integrate_half().
+  // The fit covers its whole interval when the strips its points leave
+  // uncovered at either end are small (3 point spacings or 3 mm): there a
+  // cubic follows a convex contour better than a chord. Across a wider
+  // strip, a contour the scan did not see, it can run away: it stops two
+  // spacings past its points and integrate_half() bridges the rest.
   const double x_first = half[pc.first].x_mm, x_last = half[pc.first + pc.count - 1].x_mm;
-  const double reach = 2.0 * (x_last - x_first) / double(pc.count > 1 ? pc.count - 1 : 1);
-  f.xa = std::max(pc.x_lo, x_first - reach);
-  f.xb = std::min(pc.x_hi, x_last + reach);
+  const double spacing = (x_last - x_first) / double(pc.count > 1 ? pc.count - 1 : 1);
+  const double small = std::max(3.0 * spacing, 3.0);
+  f.xa = x_first - pc.x_lo <= small ? pc.x_lo : x_first - 2.0 * spacing;
+  f.xb = pc.x_hi - x_last <= small ? pc.x_hi : x_last + 2.0 * spacing;
   const double ta = (f.xa - xc) / hw;
   const double tb = (f.xb - xc) / hw;
   f.ya = value(ta);

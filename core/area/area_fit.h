@@ -29,10 +29,11 @@
 //
 // D3 The half is covered from min x to max x without gaps. Each piece's
 //    cubic is integrated over the x-range of its own points, as the paper's
-//    (21) does, extended by up to two point spacings (within the piece's
-//    interval: there a cubic follows a convex contour better than a chord,
-//    which read 0.1-0.5 % low on sparse layers), and the spans no piece
-//    supports are closed by chords between
+//    (21) does, extended to the piece's interval when the strip left
+//    uncovered is small (at most 3 point spacings or 3 mm: there a cubic
+//    follows a convex contour better than a chord, which read 0.02-0.5 %
+//    low), else by two spacings; the spans no piece supports are closed by
+//    chords between
 //    the neighbouring fits: the small strips between pieces (the paper
 //    leaves these out, losing area in proportion to point spacing) and any
 //    stretch of contour the scan did not see. Integrating a cubic over a
