@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "json_writer.h"
+#include "pitvol/result_report.h"
 
 namespace pv::tools {
 
@@ -201,32 +201,12 @@ int run_measure(const MeasureOptions &opt) {
         .str("units", opt.units)
         .str("status", pv_status_name(st))
         .str("message", pv_status_message(st));
-    if (ok) {
-      o.num("volume_cm3", r.volume_cm3).num("depth_mm", r.depth_mm);
-    } else {
-      o.null("volume_cm3").null("depth_mm");
-    }
-    o.num("tilt_deg", r.tilt_deg)
-        .integer("layers_used", r.layers_used)
-        .integer("layers_rejected", r.layers_rejected)
-        .integer("points_in", r.points_in)
-        .integer("points_invalid", r.points_invalid)
-        .integer("points_out_of_range", r.points_out_of_range)
-        .integer("points_stored", r.points_stored)
-        .integer("points_used", r.points_used)
-        .num("gap_from_mm", r.gap_from_mm)
-        .num("gap_to_mm", r.gap_to_mm)
-        .strings("warnings", warnings)
+    add_result_fields(&o, r, ok);
+    o.strings("warnings", warnings)
         .raw("timings_ms", timings.text());
     std::printf("%s\n", o.text().c_str());
   } else if (ok) {
-    std::printf("pit volume     %.1f cm3\n", r.volume_cm3);
-    std::printf("depth          %.1f mm\n", r.depth_mm);
-    std::printf("tilt           %.2f deg\n", r.tilt_deg);
-    std::printf("layers         %u used, %u rejected\n", r.layers_used, r.layers_rejected);
-    std::printf("points         %llu in, %llu used\n", (unsigned long long)r.points_in,
-                (unsigned long long)r.points_used);
-    std::printf("method         %s (pitvol %s)\n", pv_method_name(opt.cfg.method), PV_VERSION_STRING);
+    print_result_summary(stdout, r, opt.cfg.method);
     for (const std::string &w : warnings) std::printf("warning        %s\n", w.c_str());
   } else {
     for (const std::string &w : warnings) std::fprintf(stderr, "pitvol: warning: %s\n", w.c_str());

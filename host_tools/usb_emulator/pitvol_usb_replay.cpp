@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "pitvol/json_writer.h"
+#include "pitvol/result_report.h"
 #include "pitvol/pitvol.h"
 #include "pitvol/usb_scanner.h"
 #include "usb_emulator/emulated_scanner.h"
@@ -253,34 +253,14 @@ int main(int argc, char **argv) {
         .str("file", path)
         .str("status", timed_out ? "PV_ERR_USB_TIMEOUT" : pv_status_name(st))
         .str("message", timed_out ? "the scan did not end in time" : pv_status_message(st));
-    if (ok) {
-      o.num("volume_cm3", r.volume_cm3).num("depth_mm", r.depth_mm);
-    } else {
-      o.null("volume_cm3").null("depth_mm");
-    }
-    o.num("tilt_deg", r.tilt_deg)
-        .integer("layers_used", r.layers_used)
-        .integer("layers_rejected", r.layers_rejected)
-        .integer("points_in", r.points_in)
-        .integer("points_invalid", r.points_invalid)
-        .integer("points_out_of_range", r.points_out_of_range)
-        .integer("points_stored", r.points_stored)
-        .integer("points_used", r.points_used)
-        .raw("usb", usb.text())
+    add_result_fields(&o, r, ok);
+    o.raw("usb", usb.text())
         .raw("emulator", emj.text())
         .raw("timings_ms", timings.text());
     if (bench) o.num("points_per_s", pts_per_s).num("mb_per_s", mb_per_s);
     std::printf("%s\n", o.text().c_str());
   } else {
-    if (ok) {
-      std::printf("pit volume     %.1f cm3\n", r.volume_cm3);
-      std::printf("depth          %.1f mm\n", r.depth_mm);
-      std::printf("tilt           %.2f deg\n", r.tilt_deg);
-      std::printf("layers         %u used, %u rejected\n", r.layers_used, r.layers_rejected);
-      std::printf("points         %llu in, %llu used\n", (unsigned long long)r.points_in,
-                  (unsigned long long)r.points_used);
-      std::printf("method         %s (pitvol %s)\n", pv_method_name(cfg.method), PV_VERSION_STRING);
-    }
+    if (ok) pv::tools::print_result_summary(stdout, r, cfg.method);
     std::printf("usb state      %s\n", state_name(state));
     std::printf("usb frames     %llu ok, %llu bad crc, %llu duplicate, %llu lost in %llu gaps\n",
                 (unsigned long long)us.stream.frames_ok, (unsigned long long)us.stream.frames_bad_crc,

@@ -1,0 +1,33 @@
+#include "pitvol/result_report.h"
+
+namespace pv::tools {
+
+void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured) {
+  if (measured) {
+    o->num("volume_cm3", r.volume_cm3).num("depth_mm", r.depth_mm);
+  } else {
+    o->null("volume_cm3").null("depth_mm");
+  }
+  o->num("tilt_deg", r.tilt_deg)
+      .integer("layers_used", r.layers_used)
+      .integer("layers_rejected", r.layers_rejected)
+      .integer("points_in", r.points_in)
+      .integer("points_invalid", r.points_invalid)
+      .integer("points_out_of_range", r.points_out_of_range)
+      .integer("points_stored", r.points_stored)
+      .integer("points_used", r.points_used)
+      .num("gap_from_mm", r.gap_from_mm)
+      .num("gap_to_mm", r.gap_to_mm);
+}
+
+void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method) {
+  std::fprintf(f, "pit volume     %.1f cm3\n", r.volume_cm3);
+  std::fprintf(f, "depth          %.1f mm\n", r.depth_mm);
+  std::fprintf(f, "tilt           %.2f deg\n", r.tilt_deg);
+  std::fprintf(f, "layers         %u used, %u rejected\n", r.layers_used, r.layers_rejected);
+  std::fprintf(f, "points         %llu in, %llu used\n", (unsigned long long)r.points_in,
+               (unsigned long long)r.points_used);
+  std::fprintf(f, "method         %s (pitvol %s)\n", pv_method_name(method), PV_VERSION_STRING);
+}
+
+}  // namespace pv::tools

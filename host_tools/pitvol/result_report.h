@@ -1,0 +1,23 @@
+// The measurement result as the host tools print it: JSON fields and the
+// human summary. One place, so `pitvol measure` and `pitvol-usb-replay`
+// report the same fields the same way.
+#ifndef PV_TOOLS_RESULT_REPORT_H
+#define PV_TOOLS_RESULT_REPORT_H
+
+#include <cstdio>
+
+#include "pitvol/json_writer.h"
+#include "pitvol/pitvol.h"
+
+namespace pv::tools {
+
+// volume_cm3 and depth_mm (null unless measured: the caller decides, as a
+// transport failure can void a result the core accepted), tilt, layers,
+// points and the gap band.
+void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured);
+// The lines "pit volume ... method ..." of a successful measurement.
+void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method);
+
+}  // namespace pv::tools
+
+#endif
