@@ -76,6 +76,10 @@ extern "C" pv_status_t pv_method_from_name(const char *name, pv_method_t *out) {
     *out = PV_METHOD_POLAR;
     return PV_OK;
   }
+  if (std::strcmp(name, "surface") == 0) {
+    *out = PV_METHOD_SURFACE;
+    return PV_OK;
+  }
   return PV_ERR_INVALID_ARGUMENT;
 }
 
@@ -83,6 +87,7 @@ extern "C" const char *pv_method_name(pv_method_t method) {
   switch (method) {
     case PV_METHOD_PAPER: return "paper";
     case PV_METHOD_POLAR: return "polar";
+    case PV_METHOD_SURFACE: return "surface";
   }
   return "unknown";
 }

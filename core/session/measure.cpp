@@ -163,6 +163,23 @@ double rim_height(pv_session *s, const levelling::Transform &t, bool *ground) {
   return rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
 }
 
+// Coverage per height band for the per-layer methods: the share of a band's
+// layers whose contour was usable and kept by the cleanup.
+void layer_coverage(const pv_session *s, double rim_mm, pv_result_t *out) {
+  uint32_t total[PV_COVERAGE_BANDS] = {}, seen[PV_COVERAGE_BANDS] = {};
+  for (uint32_t i = 0; i < s->layer_info_count; ++i) {
+    const pv_layer_info_t &li = s->layer_info[i];
+    int b = int(double(li.z_mm) / rim_mm * PV_COVERAGE_BANDS);
+    b = b < 0 ? 0 : (b >= PV_COVERAGE_BANDS ? PV_COVERAGE_BANDS - 1 : b);
+    ++total[b];
+    if (li.kept == 1) ++seen[b];
+  }
+  out->coverage_bands = PV_COVERAGE_BANDS;
+  for (int b = 0; b < PV_COVERAGE_BANDS; ++b) {
+    out->coverage[b] = total[b] ? float(seen[b]) / float(total[b]) : 0.0f;
+  }
+}
+
 }  // namespace
 
 pv_status_t measure(pv_session *s, pv_result_t *out) {
@@ -242,6 +259,7 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
   for (uint32_t i = 0, q = 0; i < s->layer_info_count; ++i) {
     if (s->layer_info[i].kept == kUsablePending) s->layer_info[i].kept = s->seq_keep[q++];
   }
+  layer_coverage(s, rim_mm, out);
   out->layers_used = uint32_t(kept);
   out->layers_rejected = uint32_t(s->layer_info_count - kept);
   out->points_used = used_points;

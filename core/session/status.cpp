@@ -17,6 +17,7 @@ extern "C" const char *pv_status_name(pv_status_t status) {
     case PV_ERR_OUT_OF_MEMORY: return "PV_ERR_OUT_OF_MEMORY";
     case PV_ERR_INTERNAL: return "PV_ERR_INTERNAL";
     case PV_ERR_WALL_GAP: return "PV_ERR_WALL_GAP";
+    case PV_ERR_NOT_A_PIT: return "PV_ERR_NOT_A_PIT";
   }
   return "PV_ERR_UNKNOWN";
 }
@@ -57,8 +58,12 @@ extern "C" const char *pv_status_message(pv_status_t status) {
       return "internal error in the core; please report it with the scan file";
     case PV_ERR_WALL_GAP:
       return "a band of the pit wall has too few points to trace its outline "
-             "(gap_from_mm to gap_to_mm above the bottom); scan that part of "
-             "the wall again, closer and from several sides";
+             "(the band is given in gap_from_mm/gap_to_mm above the bottom); "
+             "scan that part of the wall again, closer and from several sides";
+    case PV_ERR_NOT_A_PIT:
+      return "the points do not look like one pit (a floor, and a wall "
+             "closing around it up to a rim); check that the file holds one "
+             "pit scan and rescan it";
   }
   return "unknown status";
 }

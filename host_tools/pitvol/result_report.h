@@ -5,6 +5,7 @@
 #define PV_TOOLS_RESULT_REPORT_H
 
 #include <cstdio>
+#include <string>
 
 #include "pitvol/json_writer.h"
 #include "pitvol/pitvol.h"
@@ -15,6 +16,8 @@ namespace pv::tools {
 // transport failure can void a result the core accepted), tilt, layers,
 // points and the gap band.
 void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured);
+// The wall coverage per height band, bottom first, as a JSON array.
+std::string coverage_json(const pv_result_t &r);
 // The lines "pit volume ... method ..." of a successful measurement.
 void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method);
 

@@ -48,7 +48,8 @@ typedef enum pv_status {
   PV_ERR_DEPTH_EXCEEDS_CAPACITY = 10, /* pit deeper than max_depth_mm */
   PV_ERR_OUT_OF_MEMORY = 11,     /* bounded finish scratch unavailable */
   PV_ERR_INTERNAL = 12,          /* a bug: please report with the scan */
-  PV_ERR_WALL_GAP = 13           /* a band of wall has no usable contour */
+  PV_ERR_WALL_GAP = 13,          /* a band of wall has no usable contour */
+  PV_ERR_NOT_A_PIT = 14          /* the points do not look like one pit */
 } pv_status_t;
 
 /* Short symbolic name ("PV_ERR_NO_RIM") and a sentence for the user that
@@ -58,11 +59,14 @@ const char *pv_status_message(pv_status_t status);
 
 typedef enum pv_method {
   PV_METHOD_PAPER = 0, /* Han et al., Sensors 2026, 26(10), 3150 */
-  PV_METHOD_POLAR = 1  /* paper, with a trimmed Fourier r(theta) area per
+  PV_METHOD_POLAR = 1, /* paper, with a trimmed Fourier r(theta) area per
                           layer instead of clustering + y(x) cubics */
+  PV_METHOD_SURFACE = 2 /* one surface over the whole pit: wall radius grid
+                           R(theta, z) around a leaning axis + floor height
+                           map (docs/method.md) */
 } pv_method_t;
 
-/* "paper" / "polar" <-> the enum. PV_ERR_INVALID_ARGUMENT if unknown. */
+/* "paper" / "polar" / "surface" <-> the enum. PV_ERR_INVALID_ARGUMENT if unknown. */
 pv_status_t pv_method_from_name(const char *name, pv_method_t *out);
 const char *pv_method_name(pv_method_t method);
 
@@ -121,6 +125,14 @@ typedef struct pv_point {
 #define PV_WARN_LAYERS_REJECTED  (1u << 3) /* many layers removed by cleanup */
 #define PV_WARN_LARGE_TILT       (1u << 4) /* scan tilted more than 30 deg */
 #define PV_WARN_SPARSE_LAYERS    (1u << 5) /* many layers had too few points */
+#define PV_WARN_BRIDGED          (1u << 6) /* an unseen band of wall was bridged
+                                              from its neighbours (see
+                                              unseen_share, coverage) */
+
+/* Wall coverage: the depth from the bottom (0) to the rim is split into
+ * this many equal bands; coverage[b] is the share of band b's wall that the
+ * scan saw (0..1), b = 0 at the bottom. */
+#define PV_COVERAGE_BANDS 16
 
 typedef struct pv_result {
   pv_status_t status;
@@ -138,6 +150,13 @@ typedef struct pv_result {
   uint64_t points_stored;   /* held in the bins at the end */
   uint64_t points_used;     /* kept by thinning + clustering, fed to area fits */
   uint32_t warnings;        /* PV_WARN_* bits */
+  /* Uncertainty: the true volume lies in volume_cm3 +/- interval_cm3 (a
+   * bound from fit residuals, levelling, rim and unseen bands; 0 when the
+   * method cannot say). */
+  double interval_cm3;
+  double unseen_share;      /* share of the volume in bridged, unseen wall */
+  uint32_t coverage_bands;  /* bands filled in coverage[] (0 if no rim) */
+  float coverage[PV_COVERAGE_BANDS];
 } pv_result_t;
 
 typedef struct pv_session pv_session_t;
