@@ -116,6 +116,11 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->seq_scratch_cap = sequence_scratch_doubles(layers);
   o->seq_scratch = cv.take<double>(o->seq_scratch_cap);
   o->layer_info = cv.take<pv_layer_info_t>(layers);
+  if (c.method == PV_METHOD_SURFACE) {
+    const surface::Capacity sc = surface_capacity(c);
+    void *mem = cv.take<unsigned char>(surface::bytes_needed(sc));
+    if (block != nullptr) surface::make_workspace(mem, sc, &o->surf);
+  }
   return cv.used();
 }
 
