@@ -166,7 +166,9 @@ extern "C" pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size
   s->cfg = *cfg;
   s->grid.layer_mm = cfg->layer_mm;
   s->grid.layers = cfg->max_layers;
-  s->grid.below = gridding::layers_below(cfg->layer_mm);
+  s->grid.below = gridding::layers_below(
+      cfg->layer_mm,
+      cfg->method == PV_METHOD_SURFACE ? gridding::kSurfaceBelowMm : gridding::kBelowMm);
   const size_t head = PV_BLOCK_ALIGN * ((sizeof(pv_session) + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN);
   session::layout(*cfg, base + head, s);
   reset_counters(s);

@@ -70,8 +70,11 @@ inline void offer_low(float *low1, float *low2, float v) {
   }
 }
 
-// The surface reference of a bin: its second extreme, or the only one.
-inline float near_max(const WallBin &b) { return b.n_all >= 2 ? b.top2 : b.top1; }
+// The surface reference of a wall bin: its largest radius. (The second
+// largest, proposed to ignore a stray, measured worse: in a sparse bin near
+// the floor the largest is often the only wall point, the rest floor; a
+// stray makes a one-point band, which the outward outlier test removes.)
+inline float near_max(const WallBin &b) { return b.top1; }
 inline float near_min(const FloorCell &c) { return c.low2 < kNoneLow ? c.low2 : c.low1; }
 
 struct Ctx {
@@ -200,6 +203,26 @@ struct GridCtx {
   bool second;      // pass 2: accumulate the surface points
 };
 
+// Pass 3: a wall bin's surface points that lie on the floor map's floor
+// (the floor's edge, not the wall: near a wall the floor is partly hidden,
+// so its edge reads millimetres inside the wall).
+void floor_share_pass(void *c, const Point &q) {
+  auto *x = static_cast<GridCtx *>(c);
+  const Geo &g = x->g;
+  if (q.z >= x->wall_top) return;
+  const double zb = (q.z - g.z0) / g.dz;
+  if (zb < 0 || zb >= g.Z) return;
+  const double dx = q.x - x->m->axis.cx(q.z), dy = q.y - x->m->axis.cy(q.z);
+  const uint32_t t = angle_bin(dx, dy, g.T);
+  WallBin &b = x->ws->wall[size_t(uint32_t(zb)) * g.T + t];
+  const auto r = float(std::sqrt(dx * dx + dy * dy));
+  if (r < near_max(b) - b.band) return;
+  const double fx = (q.x - g.fx0) / g.cell, fy = (q.y - g.fy0) / g.cell;
+  if (!(fx >= 0 && fy >= 0 && fx < g.C && fy < g.C)) return;
+  const FloorCell &f = x->ws->floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
+  if (f.state == kFloor && std::fabs(q.z - double(f.value)) <= x->band) ++b.n_floor;
+}
+
 void grid_pass(void *c, const Point &q) {
   auto *x = static_cast<GridCtx *>(c);
   const Geo &g = x->g;
@@ -252,12 +275,16 @@ void widen_bands_on_slopes(Workspace &ws, const Geo &g, const Params &p) {
       const WallBin &a = ws.wall[size_t(z - 1) * g.T + t];
       const WallBin &c = ws.wall[size_t(z + 1) * g.T + t];
       WallBin &b = ws.wall[size_t(z) * g.T + t];
-      if (a.n_all < 2 || c.n_all < 2 || b.n_all < 2) continue;
+      if (a.n_all < 8 || c.n_all < 8 || b.n_all < 8) continue;
       const double slope = std::fabs(double(near_max(c)) - double(near_max(a))) / (2 * g.dz);
       b.band = float(p.band_mm + std::min(slope, 4.0) * g.dz);
     }
   }
 }
+
+// Slopes from fewer points are noise (measured: sparse lower-wall bins read
+// 0.2-0.5 mm out with 4); their mean radius is read at their mean height.
+constexpr uint32_t kMinSlopePoints = 8;
 
 // R at the bin centre from its surface points: r = a + b (z - zc) + c (t - tc),
 // least squares; the slopes are dropped where the points do not span the
@@ -268,9 +295,9 @@ float bin_value(const WallBin &b) {
   const double cza = b.sza / n - mz * ma;
   const double crz = b.srz / n - mr * mz, cra = b.sra / n - mr * ma;
   double bz = 0, ba = 0;
-  const bool use_z = b.n >= 4 && vz > 0.04;
+  const bool use_z = b.n >= kMinSlopePoints && vz > 0.04;
   const double bin_rad = 1e-6;
-  const bool use_a = b.n >= 4 && va > bin_rad;
+  const bool use_a = b.n >= kMinSlopePoints && va > bin_rad;
   if (use_z && use_a) {
     const double det = vz * va - cza * cza;
     if (det > 1e-3 * vz * va) {
@@ -292,24 +319,31 @@ float bin_value(const WallBin &b) {
 // A sparse bin far from the median of its well-seen neighbours holds no
 // wall, only multipath or floor points (inside) or strays (outside).
 void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
-  float nb[25];
+  float nb[49];
   for (uint32_t z = 0; z < g.Z; ++z) {
     for (uint32_t t = 0; t < g.T; ++t) {
       WallBin &b = ws.wall[size_t(z) * g.T + t];
       if (b.state != kSeen || b.n >= p.sparse_points) continue;
       size_t k = 0;
-      for (int dz = -2; dz <= 2; ++dz) {
+      for (int dz = -3; dz <= 3; ++dz) {
         const int zz = int(z) + dz;
         if (zz < 0 || zz >= int(g.Z)) continue;
-        for (int dt = -2; dt <= 2; ++dt) {
+        for (int dt = -3; dt <= 3; ++dt) {
           const uint32_t tt = uint32_t((int(t) + dt + int(g.T)) % int(g.T));
           const WallBin &o = ws.wall[size_t(zz) * g.T + tt];
-          if ((dz || dt) && o.state == kSeen && o.n >= p.sparse_points) {
+          if ((dz || dt) && o.state == kSeen) {
             nb[k++] = ws.wall_val[size_t(zz) * g.T + tt];
           }
         }
       }
-      if (k < 3) continue;
+      if (k < 3) {
+        // A lone sparse bin, far from any other: a stray, not wall.
+        if (k == 0) {
+          b.state = kRejected;
+          ++m->rejected_bins;
+        }
+        continue;
+      }
       const double med = median_small(nb, k);
       const double v = ws.wall_val[size_t(z) * g.T + t];
       if (v < med - p.inward_reject_mm || v > med + 4 * p.inward_reject_mm) {
@@ -325,7 +359,11 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
 // values of earlier rounds, so the result does not depend on visit order).
 void bridge(Workspace &ws, const Geo &g, Model *m) {
   const size_t bins = size_t(g.T) * g.Z;
+  // Floor bins are filled like unseen ones, but the floor map, not the
+  // bridge, bounds the void there: no interval, not unseen.
+  bool *floor_bin = reinterpret_cast<bool *>(ws.queue);
   for (size_t i = 0; i < bins; ++i) {
+    floor_bin[i] = ws.wall[i].state == kFloorBin;
     if (ws.wall[i].state != kSeen) {
       ws.wall[i].state = ws.wall[i].state == kRejected ? kRejected : kEmpty;
     }
@@ -391,6 +429,11 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
       ws.wall[i].gap = uint8_t(std::min<uint32_t>(255, 2 * round));
       ++m->bridged_bins;
     }
+  }
+  for (size_t i = 0; i < bins; ++i) {
+    if (!floor_bin[i]) continue;
+    ws.wall[i].state = kFloorBin;
+    ws.wall_lo[i] = ws.wall_hi[i] = ws.wall_val[i];
   }
 }
 
@@ -516,7 +559,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   const Geo g = geo_of(ws, *m, p);
   const size_t bins = size_t(g.T) * g.Z;
   for (size_t i = 0; i < bins; ++i) {
-    ws.wall[i] = WallBin{kNone, kNone, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, float(p.band_mm), kEmpty, 0};
+    ws.wall[i] = WallBin{kNone, kNone, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, float(p.band_mm), kEmpty, 0};
   }
   const size_t cells = size_t(g.C) * g.C;
   for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty};
@@ -527,15 +570,6 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   gc.second = true;
   src.visit(src.ctx, grid_pass, &gc);
 
-  for (size_t i = 0; i < bins; ++i) {
-    WallBin &b = ws.wall[i];
-    if (b.n >= p.min_points) {
-      b.state = kSeen;
-      ws.wall_val[i] = ws.wall_lo[i] = ws.wall_hi[i] = bin_value(b);
-      ++m->seen_bins;
-    }
-  }
-  if (m->seen_bins < g.T) return Status::NoWall;
   for (size_t i = 0; i < cells; ++i) {
     FloorCell &f = ws.floor[i];
     if (f.n >= p.min_floor_points) {
@@ -543,10 +577,22 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
       f.state = kSeen;
     }
   }
-  reject_outliers(ws, g, p, m);
-  bridge(ws, g, m);
   fill_floor(ws, g);
   flood_floor(ws, g, p);
+  src.visit(src.ctx, floor_share_pass, &gc);
+  for (size_t i = 0; i < bins; ++i) {
+    WallBin &b = ws.wall[i];
+    if (b.n >= p.min_points && 10 * b.n_floor >= 9 * b.n) {
+      b.state = kFloorBin;  // the floor map bounds the void here
+    } else if (b.n >= p.min_points) {
+      b.state = kSeen;
+      ws.wall_val[i] = ws.wall_lo[i] = ws.wall_hi[i] = bin_value(b);
+      ++m->seen_bins;
+    }
+  }
+  if (m->seen_bins < g.T) return Status::NoWall;
+  reject_outliers(ws, g, p, m);
+  bridge(ws, g, m);
   return Status::Ok;
 }
 
@@ -554,7 +600,8 @@ namespace {
 
 // Seen, or bridged across a gap short enough to be interpolation.
 bool known(const WallBin &b, const Params &p) {
-  return b.state == kSeen || (b.state == kBridged && b.gap <= p.short_gap_bins);
+  return b.state == kSeen || b.state == kFloorBin ||
+         (b.state == kBridged && b.gap <= p.short_gap_bins);
 }
 
 // Floor height along each ray, and its running maximum, for one axis centre.
@@ -582,26 +629,30 @@ void prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
   }
 }
 
-// Area of the wedge of theta bin t below radius R at height z, where the
-// floor lies below z.
-double wedge_area(const Workspace &ws, const Params &p, uint32_t t, double R, double z,
-                  double dth) {
+// Volume of the wedge of theta bin t below radius R between heights z_a and
+// z_b, above the floor: each ring of the ray counts the part of [z_a, z_b]
+// above its floor height, so the floor is integrated exactly, not at the
+// step's midpoint (a flat floor halfway through a step was a half-step
+// error: -0.1 % on a 300 mm deep cylinder).
+double wedge_volume(const Workspace &ws, const Params &p, uint32_t t, double R, double z_a,
+                    double z_b, double dth) {
   if (!(R > 0)) return 0.0;
   const uint32_t K = ws.cap.ray_steps;
   const double dr = p.integrate_dr_mm;
   auto nk = uint32_t(std::ceil(R / dr));
   if (nk > K) nk = K;
+  if (nk == 0) return 0.0;
   const float *fl = ws.ray_floor + size_t(t) * K;
   const double Rc = std::min(R, nk * dr);
-  if (nk == 0) return 0.0;
-  if (ws.ray_max[size_t(t) * K + nk - 1] < z) return 0.5 * dth * Rc * Rc;
-  double a = 0;
+  if (ws.ray_max[size_t(t) * K + nk - 1] <= z_a) return 0.5 * dth * Rc * Rc * (z_b - z_a);
+  double v = 0;
   for (uint32_t k = 0; k < nk; ++k) {
-    if (fl[k] >= z) continue;
+    const double above = z_b - std::max(z_a, double(fl[k]));
+    if (above <= 0) continue;
     const double r0 = k * dr, r1 = std::min(Rc, (k + 1) * dr);
-    a += 0.5 * dth * (r1 * r1 - r0 * r0);
+    v += 0.5 * dth * (r1 * r1 - r0 * r0) * above;
   }
-  return a;
+  return v;
 }
 
 // R of column t at height z: linear between bin centres.
@@ -630,14 +681,15 @@ Volume integrate(const Workspace &ws, const Model &m, const Params &p) {
     for (double z = m.z0_mm; z < m.rim_mm; z += p.integrate_dz_mm) {
       const double h = std::min(p.integrate_dz_mm, m.rim_mm - z);
       const double zm = z + 0.5 * h;
-      double area = 0;
+      double step = 0;
       const auto zb = uint32_t(std::min<double>(g.Z - 1, std::max(0.0, (zm - g.z0) / g.dz)));
       for (uint32_t t = 0; t < g.T; ++t) {
-        const double a = wedge_area(ws, p, t, radius_at(val, g, t, zm), zm, dth);
-        area += a;
-        if (which == 0 && !known(ws.wall[size_t(zb) * g.T + t], p)) unseen += a * h;
+        const double dv = wedge_volume(ws, p, t, radius_at(val, g, t, zm), z, z + h, dth);
+        step += dv;
+        if (which == 0 && !known(ws.wall[size_t(zb) * g.T + t], p)) unseen += dv;
       }
-      vol += area * h;
+      vol += step;
+      const double area = step / h;
       if (which == 0) last_area = area;
     }
     out[which] = vol;

@@ -39,7 +39,7 @@ struct Params {
   double dz_mm = 2.0;              // wall bin height
   double cell_mm = 2.0;            // floor map cell
   double band_mm = 1.5;            // surface band behind the near-extreme
-  uint32_t min_points = 3;         // surface points that make a bin seen
+  uint32_t min_points = 1;         // surface points that make a bin seen
   double inward_reject_mm = 3.0;   // sparse bin this far inside its neighbours: unseen
   uint32_t sparse_points = 6;      // bins with fewer points get the inward test
   double slab_mm = 10.0;           // axis: slab height for the centres
@@ -80,6 +80,7 @@ struct WallBin {
   float top1, top2;       // two largest radii
   uint32_t n_all;         // points in the bin
   uint32_t n;             // surface points (within band of top2)
+  uint32_t n_floor;       // of those, on the floor map's floor
   double sr, sz, szz, srz;  // sums over the surface points (z from the bin centre)
   double sa, saa, sra, sza;  // the same for the angle from the bin centre, rad
   float band;             // surface band of this bin (wider on a slope)
@@ -87,7 +88,11 @@ struct WallBin {
   uint8_t gap;            // bridged: length of the bridge, bins (255: long)
 };
 
-enum BinState : uint8_t { kEmpty = 0, kSeen = 1, kRejected = 2, kBridged = 3, kFloor = 4 };
+enum BinState : uint8_t {
+  kEmpty = 0, kSeen = 1, kRejected = 2, kBridged = 3,
+  kFloor = 4,     // floor cell connected to the lowest floor
+  kFloorBin = 5   // wall bin whose points are floor: filled, bounded by the floor map
+};
 
 struct FloorCell {
   float low1, low2;       // two lowest heights
