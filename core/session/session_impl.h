@@ -44,11 +44,21 @@ class Carver {
 // final layer can draw on two provisional bins when the plane moved).
 inline uint32_t layer_work_capacity(const pv_config_t &c) { return 2 * c.points_per_layer; }
 
+// Layers of the grid: max_layers of depth range (the paper's grid keeps
+// its few millimetres below the bottom plane inside them); method surface
+// keeps 40 mm below the plane (bowls, uneven floors) on top of them, so its
+// depth range is not shorter.
+inline uint32_t grid_layers(const pv_config_t &c) {
+  if (c.method != PV_METHOD_SURFACE) return c.max_layers;
+  return c.max_layers + gridding::layers_below(c.layer_mm, gridding::kSurfaceBelowMm) -
+         gridding::layers_below(c.layer_mm);
+}
+
 // The surface model's grids (method surface only): the whole depth range,
 // and pits up to this radius around their axis.
 constexpr double kSurfaceMaxRadiusMm = 320.0;
 inline surface::Capacity surface_capacity(const pv_config_t &c) {
-  return surface::capacity_for(surface::Params{}, double(c.max_layers) * c.layer_mm,
+  return surface::capacity_for(surface::Params{}, double(grid_layers(c)) * c.layer_mm,
                                kSurfaceMaxRadiusMm);
 }
 

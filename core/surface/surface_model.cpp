@@ -339,11 +339,10 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
         }
       }
       if (k < 3) {
-        // A lone sparse bin, far from any other: a stray, not wall.
-        if (k == 0) {
-          b.state = kRejected;
-          ++m->rejected_bins;
-        }
+        // A sparse bin with hardly any seen bin around it: a stray or
+        // multipath in an unseen stretch, not wall.
+        b.state = kRejected;
+        ++m->rejected_bins;
         continue;
       }
       const double med = median_small(nb, k);
@@ -355,6 +354,11 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
     }
   }
 }
+
+// Longer gaps along z are filled from around (the neighbours at the same
+// height are usually closer than the ends of a long vertical gap: a scan
+// that missed a sector of the wall read -4.5 % bridging it along z).
+constexpr uint32_t kMaxLinearGapBins = 10;
 
 // Unseen bins: linear along z between seen bins of the same column, then
 // from the filled neighbours around, round by round (each round reads only
@@ -375,7 +379,7 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
     for (uint32_t z = 0; z < g.Z; ++z) {
       const size_t i = size_t(z) * g.T + t;
       if (ws.wall[i].state != kSeen) continue;
-      if (below >= 0 && uint32_t(below) + 1 < z) {
+      if (below >= 0 && uint32_t(below) + 1 < z && z - uint32_t(below) - 1 <= kMaxLinearGapBins) {
         const float a = ws.wall_val[size_t(below) * g.T + t], b = ws.wall_val[i];
         for (uint32_t q = uint32_t(below) + 1; q < z; ++q) {
           const size_t j = size_t(q) * g.T + t;
