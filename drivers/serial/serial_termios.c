@@ -94,6 +94,8 @@ pv_serial_status_t pv_serial_adopt(pv_serial_t *port, int fd, uint32_t baud) {
   const int flags = fcntl(fd, F_GETFL);
   if (flags < 0 || fcntl(fd, F_SETFL, flags | O_NONBLOCK) != 0)
     return fail(port, PV_SERIAL_ERR_CONFIG);
+  /* Bytes that arrived before we opened belong to nobody: drop them. */
+  (void)tcflush(fd, TCIOFLUSH);
   port->fd = fd;
   return PV_SERIAL_OK;
 }

@@ -101,11 +101,10 @@ uint32_t pv_link_tx_room(const pv_link_t *link) {
   return room;
 }
 
-pv_link_status_t pv_link_send(pv_link_t *link, const pitvol_Message *msg, pv_link_class_t cls,
-                              uint32_t *seq_out) {
-  if (!link || !msg) return PV_LINK_INVALID_ARGUMENT;
+static pv_link_status_t enqueue(pv_link_t *link, const pitvol_Message *msg, pv_link_class_t cls,
+                                uint32_t seq, int fresh_seq) {
   uint8_t wire[PV_LINK_MAX_WIRE_BYTES];
-  const size_t n = pv_link_encode_frame(msg, link->tx_seq, wire, sizeof wire);
+  const size_t n = pv_link_encode_frame(msg, seq, wire, sizeof wire);
   if (n == 0) return PV_LINK_ENCODE_FAILED;
 
   if (cls == PV_LINK_LOSSY) {
@@ -114,7 +113,7 @@ pv_link_status_t pv_link_send(pv_link_t *link, const pitvol_Message *msg, pv_lin
       if (slot_at(link, i)->lossy && removable(link, i)) remove_slot(link, i);
     if (link->tx_count == PV_LINK_TX_SLOTS) {
       link->stats.lossy_dropped++;
-      link->tx_seq++; /* the receiver sees the gap */
+      if (fresh_seq) link->tx_seq++; /* the receiver sees the gap */
       return PV_LINK_DROPPED;
     }
   } else if (link->tx_count == PV_LINK_TX_SLOTS) {
@@ -129,9 +128,22 @@ pv_link_status_t pv_link_send(pv_link_t *link, const pitvol_Message *msg, pv_lin
   s->len = (uint16_t)n;
   s->lossy = cls == PV_LINK_LOSSY;
   link->tx_count++;
-  if (seq_out) *seq_out = link->tx_seq;
-  link->tx_seq++;
+  if (fresh_seq) link->tx_seq++;
   return PV_LINK_OK;
+}
+
+pv_link_status_t pv_link_send(pv_link_t *link, const pitvol_Message *msg, pv_link_class_t cls,
+                              uint32_t *seq_out) {
+  if (!link || !msg) return PV_LINK_INVALID_ARGUMENT;
+  const uint32_t seq = link->tx_seq;
+  const pv_link_status_t st = enqueue(link, msg, cls, seq, 1);
+  if (st == PV_LINK_OK && seq_out) *seq_out = seq;
+  return st;
+}
+
+pv_link_status_t pv_link_send_again(pv_link_t *link, const pitvol_Message *msg, uint32_t seq) {
+  if (!link || !msg) return PV_LINK_INVALID_ARGUMENT;
+  return enqueue(link, msg, PV_LINK_RELIABLE, seq, 0);
 }
 
 static pv_link_status_t send_reply(pv_link_t *link, const pitvol_Message *reply,

@@ -41,7 +41,8 @@ typedef struct pv_serial {
 /* 1 if the rate is supported (9600 .. 4000000 standard rates). */
 int pv_serial_baud_supported(uint32_t baud);
 
-/* Opens path, sets raw 8N1 at baud, no flow control, non-blocking. */
+/* Opens path, sets raw 8N1 at baud, no flow control, non-blocking, and
+ * discards bytes that were waiting from before. */
 pv_serial_status_t pv_serial_open(pv_serial_t *port, const char *path, uint32_t baud);
 /* Takes over an open terminal fd (e.g. from openpty) and configures it the
  * same way; the port closes it. */

@@ -129,6 +129,11 @@ void pv_link_init(pv_link_t *link, uint32_t first_seq);
 pv_link_status_t pv_link_send(pv_link_t *link, const pitvol_Message *msg,
                               pv_link_class_t cls, uint32_t *seq_out);
 
+/* Queues msg again under the sequence number it was first sent with
+ * (reliable): a host repeating a command whose answer did not come, so the
+ * board can tell the repeat from a new command. */
+pv_link_status_t pv_link_send_again(pv_link_t *link, const pitvol_Message *msg, uint32_t seq);
+
 /* Answers the command received in frame command_seq (reliable, and kept so
  * that a repeat of the command is answered again without reaching the
  * caller). first_id/last_id/sent_count: see pitvol.Ack. */
