@@ -146,8 +146,9 @@ pv_link_status_t pv_link_send_again(pv_link_t *link, const pitvol_Message *msg, 
   return enqueue(link, msg, PV_LINK_RELIABLE, seq, 0);
 }
 
-static pv_link_status_t send_reply(pv_link_t *link, const pitvol_Message *reply,
-                                   uint32_t command_seq) {
+pv_link_status_t pv_link_send_reply(pv_link_t *link, uint32_t command_seq,
+                                    const pitvol_Message *reply) {
+  if (!link || !reply) return PV_LINK_INVALID_ARGUMENT;
   if (link->cmd_have_seq && link->cmd_last_seq == command_seq) {
     link->reply = *reply;
     link->reply_valid = 1;
@@ -164,7 +165,7 @@ pv_link_status_t pv_link_ack(pv_link_t *link, uint32_t command_seq, uint32_t fir
   m.body.ack.first_id = first_id;
   m.body.ack.last_id = last_id;
   m.body.ack.sent_count = sent_count;
-  return send_reply(link, &m, command_seq);
+  return pv_link_send_reply(link, command_seq, &m);
 }
 
 pv_link_status_t pv_link_nack(pv_link_t *link, uint32_t command_seq, pitvol_NackCode code,
@@ -177,7 +178,7 @@ pv_link_status_t pv_link_nack(pv_link_t *link, uint32_t command_seq, pitvol_Nack
   if (reason) {
     strncpy(m.body.nack.reason, reason, sizeof m.body.nack.reason - 1);
   }
-  return send_reply(link, &m, command_seq);
+  return pv_link_send_reply(link, command_seq, &m);
 }
 
 int pv_link_tx_pending(const pv_link_t *link) { return link && link->tx_count > 0; }

@@ -56,11 +56,23 @@ bool HostLink::post(const pitvol_Message &msg, uint32_t *seq, std::string *err) 
   return false;
 }
 
-bool HostLink::pump(int timeout_ms, const Handler &on_msg, std::string *err) {
-  pollfd pfd{pv_serial_fd(&port_), short(POLLIN | (pv_link_tx_pending(link_.get()) ? POLLOUT : 0)), 0};
-  const int n = poll(&pfd, 1, timeout_ms);
-  if (n < 0) return true;  // EINTR: the caller loops
-  if (n == 0) return true;
+bool HostLink::post_again(const pitvol_Message &cmd, uint32_t seq, std::string *err) {
+  const pv_link_status_t st = pv_link_send_again(link_.get(), &cmd, seq);
+  if (st == PV_LINK_OK) return true;
+  *err = pv_link_status_message(st);
+  return false;
+}
+
+bool HostLink::pump(int timeout_ms, const Handler &on_msg, std::string *err, int extra_fd,
+                    bool *extra_ready) {
+  pollfd fds[2] = {
+      {pv_serial_fd(&port_), short(POLLIN | (pv_link_tx_pending(link_.get()) ? POLLOUT : 0)), 0},
+      {extra_fd, POLLIN, 0}};
+  if (extra_ready) *extra_ready = false;
+  const int n = poll(fds, extra_fd >= 0 ? 2 : 1, timeout_ms);
+  if (n <= 0) return true;  // timeout, or EINTR: the caller loops
+  if (extra_ready && extra_fd >= 0 && (fds[1].revents & (POLLIN | POLLHUP))) *extra_ready = true;
+  pollfd &pfd = fds[0];
   if (pfd.revents & POLLOUT) {
     if (pv_link_tx_flush(link_.get(), write_port, &port_) != PV_LINK_OK) {
       *err = pv_serial_status_message(PV_SERIAL_ERR_IO);

@@ -27,7 +27,12 @@ class HostLink {
 
   // Moves bytes for at most timeout_ms (returns earlier once something
   // arrived); each received message goes to on_msg. false: the port failed.
-  bool pump(int timeout_ms, const Handler &on_msg, std::string *err);
+  // extra_fd (if >= 0) is polled too; *extra_ready says it is readable.
+  bool pump(int timeout_ms, const Handler &on_msg, std::string *err, int extra_fd = -1,
+            bool *extra_ready = nullptr);
+
+  // Queues cmd again under its first sequence number (a repeat).
+  bool post_again(const pitvol_Message &cmd, uint32_t seq, std::string *err);
 
   // Queues a message without waiting for an answer; its sequence number.
   bool post(const pitvol_Message &msg, uint32_t *seq, std::string *err);

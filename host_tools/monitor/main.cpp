@@ -16,14 +16,19 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <map>
+#include <sstream>
 #include <set>
 #include <string>
 #include <vector>
 
 #include <chrono>
 
+#include <unistd.h>
+
 #include "host_link.h"
+#include "pitvol/json_writer.h"
 #include "report.h"
 
 namespace {
@@ -36,7 +41,8 @@ constexpr int kExitOk = 0, kExitRefused = 1, kExitUsage = 2, kExitNoAnswer = 3, 
 const char *kUsage =
     "usage: pitvol-monitor PORT [options] [command]\n"
     "commands:\n"
-    "  watch               live status, results and errors (default)\n"
+    "  watch               live status, results and errors (default); lines on stdin\n"
+    "                      are commands: start, stop, set-mass G, set-moisture P, hello, quit\n"
     "  fetch               every result in the board's log (CSV, or --json)\n"
     "  hello               the board's version, id and log range\n"
     "  start | stop        start or stop a scan\n"
@@ -174,36 +180,90 @@ int fetch(HostLink &link, const Options &opt) {
   return kExitOk;
 }
 
+// A command by name ("start", "set-mass", ...) with its argument.
+bool make_command(const std::string &name, const std::string &arg, pitvol_Message *cmd,
+                  std::string *err) {
+  *cmd = pitvol_Message_init_zero;
+  double v = 0;
+  if (name == "hello") {
+    cmd->which_body = pitvol_Message_get_hello_tag;
+  } else if (name == "start") {
+    cmd->which_body = pitvol_Message_start_scan_tag;
+  } else if (name == "stop") {
+    cmd->which_body = pitvol_Message_stop_scan_tag;
+  } else if (name == "set-mass" || name == "set-moisture") {
+    if (arg.empty() || !parse_number(arg.c_str(), &v)) {
+      *err = name + " needs a number (" + (name == "set-mass" ? "grams" : "percent of dry mass") + ")";
+      return false;
+    }
+    if (name == "set-mass") {
+      cmd->which_body = pitvol_Message_set_mass_tag;
+      cmd->body.set_mass.mass_g = v;
+    } else {
+      cmd->which_body = pitvol_Message_set_moisture_tag;
+      cmd->body.set_moisture.moisture_percent = v;
+    }
+  } else {
+    *err = "unknown command '" + name + "'";
+    return false;
+  }
+  return true;
+}
+
 // Live: everything the board says. A result id that skips ahead (or a
 // Status naming a newer result) means results were lost on the line; they
-// are asked for again by id.
+// are asked for again by id. Lines on stdin are commands ("start", "stop",
+// "set-mass 3000", "set-moisture 12.5", "hello"), sent one at a time and
+// repeated until the board answers; the answer is printed.
 int watch(HostLink &link, const Options &opt) {
   Printer print{opt.json, {}, {}, -1};
   uint32_t highest = 0;
   bool have_highest = false;
   std::set<uint32_t> missing;
   long results = 0;
-  const auto note = [&](uint32_t id) {
-    if (!have_highest) { have_highest = true; highest = id; return; }
-    for (uint32_t i = highest + 1; i < id && missing.size() < 4096; ++i) missing.insert(i);
-    if (id > highest) highest = id;
+  struct Pending {
+    pitvol_Message msg;
+    std::string text;
+    uint32_t seq = 0;
+    int sent = 0;
+    Clock::time_point at{};
+  };
+  std::deque<Pending> commands;
+  const auto answer = [&](const pitvol_Message &m) {
+    if (commands.empty() || commands.front().sent == 0) return;
+    const uint32_t seq = m.which_body == pitvol_Message_ack_tag ? m.body.ack.command_seq : m.body.nack.command_seq;
+    if (seq != commands.front().seq) return;
+    const std::string &c = commands.front().text;
+    if (m.which_body == pitvol_Message_ack_tag)
+      Printer::line(opt.json ? "{\"type\": \"ack\", \"command\": \"" + c + "\"}" : "ok       " + c);
+    else
+      Printer::line(opt.json ? "{\"type\": \"nack\", \"command\": \"" + c + "\", \"reason\": \"" +
+                                   pv::tools::json_escape(m.body.nack.reason) + "\"}"
+                             : "refused  " + c + ": " + m.body.nack.reason);
+    commands.pop_front();
   };
   const auto handle = [&](const pv_link_rx_t &rx) {
     const pitvol_Message &m = rx.msg;
     if (m.which_body == pitvol_Message_result_tag) {
       const uint32_t id = m.body.result.id;
-      const bool fresh = !print.printed.count(id);
+      if (!print.printed.count(id)) results++;
       missing.erase(id);
-      note(id);
-      if (fresh && (!have_highest || id <= highest)) results++;
+      if (!have_highest) {
+        have_highest = true;
+        highest = id;
+      }
+      for (uint32_t i = highest + 1; i < id && missing.size() < 4096; ++i) missing.insert(i);
+      if (id > highest) highest = id;
     } else if (m.which_body == pitvol_Message_status_tag && have_highest &&
                m.body.status.last_result_id > highest) {
       for (uint32_t i = highest + 1; i <= m.body.status.last_result_id && missing.size() < 4096; ++i)
         missing.insert(i);
       highest = m.body.status.last_result_id;
-    } else if (m.which_body == pitvol_Message_hello_tag) {
+    } else if (m.which_body == pitvol_Message_hello_tag && !have_highest) {
       have_highest = true;
       highest = m.body.hello.last_result_id;
+    } else if (m.which_body == pitvol_Message_ack_tag || m.which_body == pitvol_Message_nack_tag) {
+      answer(m);
     }
     print(rx);
   };
@@ -216,48 +276,73 @@ int watch(HostLink &link, const Options &opt) {
   if (r != HostLink::Reply::Ack) return r == HostLink::Reply::Nack ? refused(reply) : no_answer(r, err);
   const auto start = Clock::now();
   auto last_ask = Clock::now() - std::chrono::seconds(10);
+  int in_fd = STDIN_FILENO;
+  std::string in_buf;
   while (!g_stop) {
-    if (opt.count >= 0 && results >= opt.count) break;
+    if (opt.count >= 0 && results >= opt.count && commands.empty()) break;
     if (opt.seconds >= 0 && std::chrono::duration<double>(Clock::now() - start).count() > opt.seconds) break;
-    if (!missing.empty() && Clock::now() - last_ask > std::chrono::milliseconds(opt.retry_ms)) {
+    const auto now = Clock::now();
+    if (!missing.empty() && now - last_ask > std::chrono::milliseconds(opt.retry_ms)) {
       pitvol_Message ask = pitvol_Message_init_zero;
       ask.which_body = pitvol_Message_get_results_tag;
       ask.body.get_results.from_id = *missing.begin();
       ask.body.get_results.max_count = std::min<uint32_t>(64, *missing.rbegin() - *missing.begin() + 1);
       if (!link.post(ask, nullptr, &err)) return no_answer(HostLink::Reply::PortError, err);
-      last_ask = Clock::now();
+      last_ask = now;
     }
-    if (!link.pump(100, handle, &err)) {
+    if (!commands.empty()) {
+      Pending &c = commands.front();
+      if (c.sent == 0 || now - c.at > std::chrono::milliseconds(opt.retry_ms)) {
+        if (c.sent == opt.tries) {
+          std::fprintf(stderr, "pitvol-monitor: %s: the board did not answer\n", c.text.c_str());
+          commands.pop_front();
+        } else if (c.sent == 0 ? link.post(c.msg, &c.seq, &err) : link.post_again(c.msg, c.seq, &err)) {
+          c.sent++;
+          c.at = now;
+        }
+      }
+    }
+    bool stdin_ready = false;
+    if (!link.pump(100, handle, &err, in_fd, &stdin_ready)) {
       std::fprintf(stderr, "pitvol-monitor: %s\n", err.c_str());
       return kExitPort;
+    }
+    if (!stdin_ready) continue;
+    char buf[256];
+    const ssize_t n = read(in_fd, buf, sizeof buf);
+    if (n <= 0) {
+      in_fd = -1;  // end of input: keep watching
+      continue;
+    }
+    in_buf.append(buf, size_t(n));
+    size_t eol;
+    while ((eol = in_buf.find('\n')) != std::string::npos) {
+      std::string line = in_buf.substr(0, eol);
+      in_buf.erase(0, eol + 1);
+      std::istringstream words(line);
+      std::string name, arg;
+      words >> name >> arg;
+      if (name.empty()) continue;
+      if (name == "quit") {
+        g_stop = 1;
+        break;
+      }
+      Pending p;
+      p.text = line;
+      if (!make_command(name, arg, &p.msg, &err)) {
+        std::fprintf(stderr, "pitvol-monitor: %s\n", err.c_str());
+        continue;
+      }
+      commands.push_back(p);
     }
   }
   return kExitOk;
 }
 
 int simple_command(HostLink &link, const Options &opt) {
-  pitvol_Message cmd = pitvol_Message_init_zero;
-  double v = 0;
-  if (opt.command == "hello") {
-    cmd.which_body = pitvol_Message_get_hello_tag;
-  } else if (opt.command == "start") {
-    cmd.which_body = pitvol_Message_start_scan_tag;
-  } else if (opt.command == "stop") {
-    cmd.which_body = pitvol_Message_stop_scan_tag;
-  } else if (opt.command == "set-mass" || opt.command == "set-moisture") {
-    if (opt.arg.empty() || !parse_number(opt.arg.c_str(), &v))
-      return usage(opt.command + " needs a number (" +
-                   (opt.command == "set-mass" ? "grams" : "percent of dry mass") + ")");
-    if (opt.command == "set-mass") {
-      cmd.which_body = pitvol_Message_set_mass_tag;
-      cmd.body.set_mass.mass_g = v;
-    } else {
-      cmd.which_body = pitvol_Message_set_moisture_tag;
-      cmd.body.set_moisture.moisture_percent = v;
-    }
-  } else {
-    return usage("unknown command '" + opt.command + "'");
-  }
+  pitvol_Message cmd;
+  std::string why;
+  if (!make_command(opt.command, opt.arg, &cmd, &why)) return usage(why);
   // Only the answer matters here (and the Hello it asked for).
   const auto print = [&](const pv_link_rx_t &rx) {
     if (rx.msg.which_body == pitvol_Message_hello_tag)

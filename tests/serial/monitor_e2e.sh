@@ -36,15 +36,10 @@ mon "$port" fetch >"$work/fetch.csv" 2>/dev/null
 # Result 7: volume 1500 + 1.25 * 6 cm3 (the device's synthetic results).
 grep -q '^7,1790000420,PV_OK,polar,1507.5,30,150,' "$work/fetch.csv" || fail "fetch row 7"
 
-# Live: a watcher sees the scan's result as it happens.
-mon "$port" watch --json --count 1 --seconds 20 >"$work/watch.json" &
-watcher=$!
-sleep 0.5
-mon "$port" set-mass 3000 >/dev/null || fail "set-mass"
-mon "$port" set-moisture 12.5 >/dev/null || fail "set-moisture"
-mon "$port" start >/dev/null || fail "start"
-mon "$port" stop >/dev/null || fail "stop"
-wait "$watcher" || fail "watch exited with $?"
+# Live: commands typed into watch; it sees the scan's result as it happens.
+printf 'set-mass 3000\nset-moisture 12.5\nstart\nstop\n' |
+  mon "$port" watch --json --count 1 --seconds 20 >"$work/watch.json" || fail "watch exited with $?"
+[ "$(grep -c '"type": "ack"' "$work/watch.json")" -eq 4 ] || fail "watch: want 4 acks ($(cat "$work/watch.json"))"
 grep -q '"type": "result", "id": 21' "$work/watch.json" || fail "watch did not see result 21"
 # Density of result 21: 3000 g over 1525 cm3 (+/- 30), w 12.5 %, reference 1850 kg/m3.
 mon "$port" fetch --from 21 --json >"$work/r21.json" 2>/dev/null
@@ -83,6 +78,17 @@ cmp <(cut -d, -f1-11 "$work/noisy.csv" | head -21) <(cut -d, -f1-11 "$work/fetch
 corrupt=$(sed -n 's/.*results; \([0-9]*\) corrupt frames.*/\1/p' "$work/noisy.err")
 [ "${corrupt:-0}" -gt 0 ] || fail "noise did not hit any frame"
 echo "noisy fetch: 30 results, $corrupt corrupt frames counted by the monitor"
+# Commands through the noise: repeated until answered, done once each (a
+# repeated StopScan must not be refused, nor make a second result).
+for c in "set-mass 2500" start stop; do
+  mon "$work/noisy-port" $c --retry-ms 200 --tries 50 >/dev/null 2>"$work/noisy-cmd.err" \
+    || fail "noisy $c: $(cat "$work/noisy-cmd.err")"
+done
+mon "$work/noisy-port" fetch --from 25 --retry-ms 200 --tries 50 >"$work/noisy2.csv" 2>/dev/null \
+  || fail "noisy fetch after the scan"
+[ "$(cut -d, -f1 "$work/noisy2.csv" | tail -n +2 | tr '\n' ' ')" = "$(seq -s ' ' 25 31) " ] \
+  || fail "noisy scan: want results 25..31 ($(cut -d, -f1 "$work/noisy2.csv" | tr '\n' ' '))"
+grep -q '^31,.*,2500,' "$work/noisy2.csv" || fail "noisy scan: result 31 lacks the mass"
 
 # 3. A real scan: the board's result equals pitvol measure on the same file.
 "$synth" "$work/pit.ply" --points 60000 --seed 3 >/dev/null
@@ -93,4 +99,12 @@ mon "$work/scan-port" start >/dev/null && mon "$work/scan-port" stop >/dev/null 
 got=$(mon "$work/scan-port" fetch --json 2>/dev/null | sed -n 's/.*"volume_cm3": \([^,}]*\).*/\1/p')
 [ "$got" = "$want" ] || fail "monitor volume $got != pitvol measure $want"
 echo "scan: monitor and pitvol measure agree: $got cm3"
+
+# 4. A scan that cannot be measured: the result says why and an Error follows.
+"$synth" "$work/tiny.ply" --points 20 --seed 3 >/dev/null
+start_device bad --scan "$work/tiny.ply"
+printf 'start\nstop\n' | mon "$work/bad-port" watch --json --seconds 2 >"$work/bad.json" || fail "bad watch"
+grep -q '"type": "result", "id": 1, .*"status": "PV_ERR_[A-Z_]*", .*"volume_cm3": null' "$work/bad.json" \
+  || fail "failed scan: no result with an error status ($(cat "$work/bad.json"))"
+grep -q '"type": "error", "code": [1-9][0-9]*, "name": "PV_ERR_' "$work/bad.json" || fail "failed scan: no Error"
 echo "PASS"

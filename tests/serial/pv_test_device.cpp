@@ -82,7 +82,12 @@ struct Device {
   pv_log_t log;
   Noise tx_noise, rx_noise;
   std::vector<uint8_t> wire_out;  // bytes on their way to the pty (after noise)
-  std::deque<pitvol_Message> outbox;  // reliable messages waiting for queue room
+  struct Out {
+    pitvol_Message msg;
+    bool is_reply = false;
+    uint32_t reply_to = 0;
+  };
+  std::deque<Out> outbox;  // reliable messages waiting for queue room
 
   pitvol_DeviceState state = pitvol_DeviceState_STATE_IDLE;
   uint64_t points = 0;
@@ -104,11 +109,20 @@ long write_cb(void *ctx, const uint8_t *data, size_t len) {
   return long(len);
 }
 
-void queue_reliable(Device &d, const pitvol_Message &m) { d.outbox.push_back(m); }
+void queue_reliable(Device &d, const pitvol_Message &m) {
+  Device::Out o;
+  o.msg = m;
+  d.outbox.push_back(o);
+}
 
 void pump_outbox(Device &d) {
-  while (!d.outbox.empty() && pv_link_send(&d.link, &d.outbox.front(), PV_LINK_RELIABLE, nullptr) == PV_LINK_OK)
+  while (!d.outbox.empty()) {
+    const Device::Out &o = d.outbox.front();
+    const pv_link_status_t st = o.is_reply ? pv_link_send_reply(&d.link, o.reply_to, &o.msg)
+                                           : pv_link_send(&d.link, &o.msg, PV_LINK_RELIABLE, nullptr);
+    if (st != PV_LINK_OK) return;
     d.outbox.pop_front();
+  }
 }
 
 pitvol_Result make_result(Device &d, uint32_t id, const pv_result_t &r, const char *method) {
@@ -234,28 +248,32 @@ void send_status(Device &d) {
   pv_link_send(&d.link, &m, PV_LINK_LOSSY, nullptr);
 }
 
-// Replies go through the outbox too, so that they follow the messages the
-// command produced (Hello, Result) in order.
-void ack(Device &d, uint32_t seq, uint32_t sent = 0) {
+// Replies wait in the outbox behind the messages the command produced
+// (Hello, Result), and go out through pv_link_send_reply so that the link
+// answers a repeated command with them.
+void reply(Device &d, const pitvol_Message &m) {
+  Device::Out o;
+  o.msg = m;
+  o.reply_to = m.which_body == pitvol_Message_ack_tag ? m.body.ack.command_seq : m.body.nack.command_seq;
+  o.is_reply = true;
+  d.outbox.push_back(o);
   pump_outbox(d);
-  if (!d.outbox.empty() || pv_link_ack(&d.link, seq, pv_log_first_seq(&d.log), pv_log_last_seq(&d.log), sent) != PV_LINK_OK) {
-    pitvol_Message m = pitvol_Message_init_zero;
-    m.which_body = pitvol_Message_ack_tag;
-    m.body.ack = {seq, pv_log_first_seq(&d.log), pv_log_last_seq(&d.log), sent};
-    queue_reliable(d, m);
-  }
+}
+
+void ack(Device &d, uint32_t seq, uint32_t sent = 0) {
+  pitvol_Message m = pitvol_Message_init_zero;
+  m.which_body = pitvol_Message_ack_tag;
+  m.body.ack = {seq, pv_log_first_seq(&d.log), pv_log_last_seq(&d.log), sent};
+  reply(d, m);
 }
 
 void nack(Device &d, uint32_t seq, pitvol_NackCode code, const char *reason) {
-  pump_outbox(d);
-  if (!d.outbox.empty() || pv_link_nack(&d.link, seq, code, reason) != PV_LINK_OK) {
-    pitvol_Message m = pitvol_Message_init_zero;
-    m.which_body = pitvol_Message_nack_tag;
-    m.body.nack.command_seq = seq;
-    m.body.nack.code = code;
-    std::snprintf(m.body.nack.reason, sizeof m.body.nack.reason, "%s", reason);
-    queue_reliable(d, m);
-  }
+  pitvol_Message m = pitvol_Message_init_zero;
+  m.which_body = pitvol_Message_nack_tag;
+  m.body.nack.command_seq = seq;
+  m.body.nack.code = code;
+  std::snprintf(m.body.nack.reason, sizeof m.body.nack.reason, "%s", reason);
+  reply(d, m);
 }
 
 void handle(Device &d, const pv_link_rx_t &rx) {

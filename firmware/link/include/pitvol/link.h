@@ -141,6 +141,11 @@ pv_link_status_t pv_link_ack(pv_link_t *link, uint32_t command_seq, uint32_t fir
                              uint32_t last_id, uint32_t sent_count);
 pv_link_status_t pv_link_nack(pv_link_t *link, uint32_t command_seq, pitvol_NackCode code,
                               const char *reason);
+/* The same for a ready Ack or Nack message (e.g. one held back until the
+ * messages it follows have gone out). The answer is kept for repeats even
+ * when this returns PV_LINK_QUEUE_FULL; call again after a flush. */
+pv_link_status_t pv_link_send_reply(pv_link_t *link, uint32_t command_seq,
+                                    const pitvol_Message *reply);
 
 /* 1 if frames wait to be written (poll for POLLOUT), else 0. */
 int pv_link_tx_pending(const pv_link_t *link);
