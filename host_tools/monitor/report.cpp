@@ -1,9 +1,11 @@
-// pitvol-monitor output (see report.h). Numbers in JSON and CSV use %.17g,
-// like pitvol --json, so a value read back is the value the board sent.
+// pitvol-monitor output (see report.h). JSON numbers use %.17g like
+// pitvol --json; CSV the shortest decimal that reads back the same. Either
+// way a value read back is the value the board sent.
 #include "report.h"
 
 #include <cinttypes>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 
 #include "pitvol/pitvol.h"
@@ -21,9 +23,14 @@ std::string fmt(const char *f, double v) {
   return b;
 }
 
+// The shortest decimal that reads back as the same double (11.8, not
+// 11.800000000000001).
 std::string g17(double v) {
   char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(b, sizeof b, "%.*g", digits, v);
+    if (std::strtod(b, nullptr) == v) break;
+  }
   return b;
 }
 
