@@ -84,8 +84,14 @@ for c in "set-mass 2500" start stop; do
   mon "$work/noisy-port" $c --retry-ms 200 --tries 50 >/dev/null 2>"$work/noisy-cmd.err" \
     || fail "noisy $c: $(cat "$work/noisy-cmd.err")"
 done
-mon "$work/noisy-port" fetch --from 25 --retry-ms 200 --tries 50 >"$work/noisy2.csv" 2>/dev/null \
-  || fail "noisy fetch after the scan"
+# The board answers StopScan first and logs the result just after: ask
+# until result 31 is there (at most 50 times).
+for _ in $(seq 50); do
+  mon "$work/noisy-port" fetch --from 25 --retry-ms 200 --tries 50 >"$work/noisy2.csv" 2>/dev/null \
+    || fail "noisy fetch after the scan"
+  grep -q '^31,' "$work/noisy2.csv" && break
+  sleep 0.1
+done
 [ "$(cut -d, -f1 "$work/noisy2.csv" | tail -n +2 | tr '\n' ' ')" = "$(seq -s ' ' 25 31) " ] \
   || fail "noisy scan: want results 25..31 ($(cut -d, -f1 "$work/noisy2.csv" | tr '\n' ' '))"
 grep -q '^31,.*,2500,' "$work/noisy2.csv" || fail "noisy scan: result 31 lacks the mass"
@@ -95,8 +101,9 @@ grep -q '^31,.*,2500,' "$work/noisy2.csv" || fail "noisy scan: result 31 lacks t
 want=$("$pitvol" measure "$work/pit.ply" --json | sed -n 's/.*"volume_cm3": \([^,}]*\).*/\1/p')
 [ -n "$want" ] || fail "pitvol measure gave no volume"
 start_device scan --scan "$work/pit.ply"
-mon "$work/scan-port" start >/dev/null && mon "$work/scan-port" stop >/dev/null || fail "scan start/stop"
-got=$(mon "$work/scan-port" fetch --json 2>/dev/null | sed -n 's/.*"volume_cm3": \([^,}]*\).*/\1/p')
+printf 'start\nstop\n' | mon "$work/scan-port" watch --json --count 1 --seconds 100 >"$work/scan.json" \
+  || fail "scan watch"
+got=$(sed -n 's/.*"type": "result".*"volume_cm3": \([^,}]*\).*/\1/p' "$work/scan.json")
 [ "$got" = "$want" ] || fail "monitor volume $got != pitvol measure $want"
 echo "scan: monitor and pitvol measure agree: $got cm3"
 

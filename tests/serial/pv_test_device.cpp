@@ -276,6 +276,38 @@ void nack(Device &d, uint32_t seq, pitvol_NackCode code, const char *reason) {
   reply(d, m);
 }
 
+// The scan was stopped: measure, log, send the Result (and an Error if
+// there is no volume).
+void finish_scan(Device &d) {
+  std::string method = "polar";
+  const pv_result_t r = d.opt.scan.empty() ? synthetic(pv_log_last_seq(&d.log) + 1)
+                                           : measure_scan(d.opt.scan, &method);
+  pitvol_Result res;
+  if (!log_result(d, r, method.c_str(), &res)) {
+    pitvol_Message e = pitvol_Message_init_zero;
+    e.which_body = pitvol_Message_error_tag;
+    e.body.error.code = 100;
+    std::snprintf(e.body.error.name, sizeof e.body.error.name, "PV_BOARD_LOG");
+    std::snprintf(e.body.error.message, sizeof e.body.error.message, "%s", pv_log_status_message(PV_LOG_ERR_IO));
+    queue_reliable(d, e);
+    d.state = pitvol_DeviceState_STATE_ERROR;
+    return;
+  }
+  d.state = pitvol_DeviceState_STATE_RESULT;
+  pitvol_Message out = pitvol_Message_init_zero;
+  out.which_body = pitvol_Message_result_tag;
+  out.body.result = res;
+  queue_reliable(d, out);
+  if (r.status != PV_OK) {
+    pitvol_Message e = pitvol_Message_init_zero;
+    e.which_body = pitvol_Message_error_tag;
+    e.body.error.code = int32_t(r.status);
+    std::snprintf(e.body.error.name, sizeof e.body.error.name, "%s", pv_status_name(r.status));
+    std::snprintf(e.body.error.message, sizeof e.body.error.message, "%s", pv_status_message(r.status));
+    queue_reliable(d, e);
+  }
+}
+
 void handle(Device &d, const pv_link_rx_t &rx) {
   const pitvol_Message &m = rx.msg;
   switch (m.which_body) {
@@ -292,35 +324,15 @@ void handle(Device &d, const pv_link_rx_t &rx) {
       d.points = 0;
       ack(d, rx.seq);
       break;
-    case pitvol_Message_stop_scan_tag: {
+    case pitvol_Message_stop_scan_tag:
       if (d.state != pitvol_DeviceState_STATE_SCANNING) {
         nack(d, rx.seq, pitvol_NackCode_NACK_WRONG_STATE, "no scan is running; start one first");
         break;
       }
-      std::string method = "polar";
-      const pv_result_t r = d.opt.scan.empty() ? synthetic(pv_log_last_seq(&d.log) + 1)
-                                               : measure_scan(d.opt.scan, &method);
-      pitvol_Result res;
-      if (!log_result(d, r, method.c_str(), &res)) {
-        nack(d, rx.seq, pitvol_NackCode_NACK_STORAGE, pv_log_status_message(PV_LOG_ERR_IO));
-        break;
-      }
-      d.state = pitvol_DeviceState_STATE_RESULT;
+      // Answer now, compute once the answer is out (finish() takes a while).
+      d.state = pitvol_DeviceState_STATE_COMPUTING;
       ack(d, rx.seq);
-      pitvol_Message out = pitvol_Message_init_zero;
-      out.which_body = pitvol_Message_result_tag;
-      out.body.result = res;
-      queue_reliable(d, out);
-      if (r.status != PV_OK) {
-        pitvol_Message e = pitvol_Message_init_zero;
-        e.which_body = pitvol_Message_error_tag;
-        e.body.error.code = int32_t(r.status);
-        std::snprintf(e.body.error.name, sizeof e.body.error.name, "%s", pv_status_name(r.status));
-        std::snprintf(e.body.error.message, sizeof e.body.error.message, "%s", pv_status_message(r.status));
-        queue_reliable(d, e);
-      }
       break;
-    }
     case pitvol_Message_set_mass_tag: {
       pv_density_input_t in{};
       in.volume_cm3 = 1;
@@ -488,6 +500,9 @@ int main(int argc, char **argv) {
     pump_outbox(d);
     continue_fetch(d);
     pv_link_tx_flush(&d.link, write_cb, &d);
+    if (d.state == pitvol_DeviceState_STATE_COMPUTING && d.outbox.empty() &&
+        !pv_link_tx_pending(&d.link) && d.wire_out.empty())
+      finish_scan(d);
     pollfd pfd{pv_serial_fd(&d.port), short(POLLIN | (d.wire_out.empty() ? 0 : POLLOUT)), 0};
     if (poll(&pfd, 1, 20) < 0) continue;
     if (pfd.revents & POLLOUT) {
