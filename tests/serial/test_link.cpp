@@ -445,6 +445,53 @@ void oversized_and_unknown_input_is_rejected_and_counted(void **) {
   assert_int_equal(rx.stats.frames_corrupt, 3);
 }
 
+// Pure garbage in any chunking: nothing is taken for a frame, nothing
+// read out of bounds (ASan in the debug preset), every piece counted.
+void random_bytes_never_make_a_frame(void **) {
+  static pv_link_t rx;
+  pv_link_init(&rx, 0);
+  pv::test::Rng rng{31337};
+  Bytes junk(200000);
+  size_t zeros = 0;
+  for (auto &b : junk) {
+    b = uint8_t(rng.next());
+    if (rng.next() % 50 == 0) b = 0;  // delimiters now and then
+    zeros += b == 0;
+  }
+  const auto got = feed_all(&rx, junk, 1 + size_t(rng.next() % 700));
+  assert_int_equal(got.size(), 0);
+  assert_true(rx.stats.frames_corrupt > zeros / 2);
+  assert_true(rx.stats.frames_corrupt <= zeros);
+}
+
+// An answer refused by a full queue is still kept: the repeat of the
+// command gets it once there is room.
+void an_answer_refused_by_a_full_queue_still_answers_the_repeat(void **) {
+  static pv_link_t board;
+  pv_link_init(&board, 0);
+  uint8_t cmd[PV_LINK_MAX_WIRE_BYTES];
+  const pitvol_Message gr = get_results(1);
+  const size_t n = pv_link_encode_frame(&gr, 77, cmd, sizeof cmd);
+  Bytes wire(cmd, cmd + n);
+  assert_int_equal(feed_all(&board, wire, wire.size()).size(), 1);
+  for (uint32_t id = 1; id <= PV_LINK_TX_SLOTS; ++id) {
+    const pitvol_Message r = result(id);
+    assert_int_equal(pv_link_send(&board, &r, PV_LINK_RELIABLE, nullptr), PV_LINK_OK);
+  }
+  assert_int_equal(pv_link_ack(&board, 77, 1, 8, 8), PV_LINK_QUEUE_FULL);
+  Bytes out;
+  pv_link_tx_flush(&board, write_all, &out);  // the host reads; room again
+  assert_int_equal(feed_all(&board, wire, wire.size()).size(), 0);  // the repeat
+  out.clear();
+  pv_link_tx_flush(&board, write_all, &out);
+  static pv_link_t host;
+  pv_link_init(&host, 0);
+  const auto back = feed_all(&host, out, out.size());
+  assert_int_equal(back.size(), 1);
+  assert_int_equal(back[0].msg.which_body, pitvol_Message_ack_tag);
+  assert_int_equal(back[0].msg.body.ack.command_seq, 77);
+}
+
 }  // namespace
 
 int main() {
@@ -459,6 +506,8 @@ int main() {
       cmocka_unit_test(a_slow_host_loses_statuses_but_no_result),
       cmocka_unit_test(a_repeated_command_is_answered_again_not_handed_on),
       cmocka_unit_test(oversized_and_unknown_input_is_rejected_and_counted),
+      cmocka_unit_test(random_bytes_never_make_a_frame),
+      cmocka_unit_test(an_answer_refused_by_a_full_queue_still_answers_the_repeat),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
