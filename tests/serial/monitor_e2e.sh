@@ -96,6 +96,16 @@ done
   || fail "noisy scan: want results 25..31 ($(cut -d, -f1 "$work/noisy2.csv" | tr '\n' ' '))"
 grep -q '^31,.*,2500,' "$work/noisy2.csv" || fail "noisy scan: result 31 lacks the mass"
 
+# A record the board cannot give (damaged storage): the rest arrives, the
+# gap is named, the exit status says it is incomplete.
+start_device damaged --preload 8 --lose-id 5
+set +e
+mon "$work/damaged-port" fetch >"$work/damaged.csv" 2>"$work/damaged.err"; rc=$?
+set -e
+[ $rc -eq 1 ] || fail "damaged log: exit $rc, want 1"
+[ "$(cut -d, -f1 "$work/damaged.csv" | tail -n +2 | tr '\n' ' ')" = "1 2 3 4 6 7 8 " ] || fail "damaged log rows"
+grep -q "ids 5 .. 5" "$work/damaged.err" || fail "damaged log: gap not named ($(cat "$work/damaged.err"))"
+
 # 3. A real scan: the board's result equals pitvol measure on the same file.
 "$synth" "$work/pit.ply" --points 60000 --seed 3 >/dev/null
 want=$("$pitvol" measure "$work/pit.ply" --json | sed -n 's/.*"volume_cm3": \([^,}]*\).*/\1/p')

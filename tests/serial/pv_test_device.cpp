@@ -8,10 +8,12 @@
 //
 //   pv-test-device --log DIR --port-link PATH [--preload N] [--scan FILE]
 //                  [--noise PERCENT] [--seed S] [--max-dry KG_M3] [--seconds S]
+//                  [--lose-id ID]
 //
 // PATH becomes a symlink to the pty's slave side: the monitor's PORT.
 // --noise: that share of the bytes, both directions, is flipped, dropped or
-// preceded by a random byte (line noise).
+// preceded by a random byte (line noise). --lose-id: the log acts as if that
+// record were damaged (GetResults skips it).
 #include <fcntl.h>
 #include <poll.h>
 #include <pty.h>
@@ -52,6 +54,7 @@ void on_signal(int) { g_stop = 1; }
 struct Options {
   std::string log_dir, port_link, scan;
   long preload = 0;
+  uint32_t lose_id = 0;  // acts as if this record were damaged: never sent
   double noise_percent = 0, max_dry = 1850.0, seconds = 600;
   uint64_t seed = 1;
 };
@@ -96,8 +99,7 @@ struct Device {
 
   struct Fetch {
     bool on = false;
-    uint32_t cmd_seq = 0, remaining = 0, sent = 0;
-    bool limited = false;
+    uint32_t cmd_seq = 0, to_id = 0, sent = 0;
     pv_log_cursor_t cur{};
   } fetch;
 };
@@ -372,8 +374,7 @@ void handle(Device &d, const pv_link_rx_t &rx) {
       d.fetch = {};
       d.fetch.on = true;
       d.fetch.cmd_seq = rx.seq;
-      d.fetch.limited = m.body.get_results.max_count != 0;
-      d.fetch.remaining = m.body.get_results.max_count;
+      d.fetch.to_id = m.body.get_results.to_id ? m.body.get_results.to_id : UINT32_MAX;
       if (pv_log_seek(&d.log, m.body.get_results.from_id, &d.fetch.cur) != PV_LOG_OK) {
         d.fetch.on = false;
         nack(d, rx.seq, pitvol_NackCode_NACK_STORAGE, pv_log_status_message(PV_LOG_ERR_IO));
@@ -388,16 +389,11 @@ void handle(Device &d, const pv_link_rx_t &rx) {
 // Streams a GetResults answer as the link drains, so the queue stays bounded.
 void continue_fetch(Device &d) {
   while (d.fetch.on && d.outbox.empty() && pv_link_tx_room(&d.link) > 2) {
-    if (d.fetch.limited && d.fetch.remaining == 0) {
-      d.fetch.on = false;
-      ack(d, d.fetch.cmd_seq, d.fetch.sent);
-      return;
-    }
     uint8_t buf[PV_LOG_MAX_PAYLOAD_BYTES];
     uint32_t seq = 0;
     size_t len = 0;
     const pv_log_status_t st = pv_log_next(&d.log, &d.fetch.cur, buf, sizeof buf, &seq, &len);
-    if (st == PV_LOG_END) {
+    if (st == PV_LOG_END || (st == PV_LOG_OK && seq > d.fetch.to_id)) {
       d.fetch.on = false;
       ack(d, d.fetch.cmd_seq, d.fetch.sent);
       return;
@@ -407,20 +403,21 @@ void continue_fetch(Device &d) {
       nack(d, d.fetch.cmd_seq, pitvol_NackCode_NACK_STORAGE, pv_log_status_message(st));
       return;
     }
+    if (seq == d.opt.lose_id) continue;
     pitvol_Message m = pitvol_Message_init_zero;
     m.which_body = pitvol_Message_result_tag;
     pb_istream_t is = pb_istream_from_buffer(buf, len);
     if (!pb_decode(&is, pitvol_Result_fields, &m.body.result)) continue;
     if (pv_link_send(&d.link, &m, PV_LINK_RELIABLE, nullptr) != PV_LINK_OK) return;
     d.fetch.sent++;
-    if (d.fetch.limited) d.fetch.remaining--;
   }
 }
 
 int usage() {
   std::fprintf(stderr,
                "usage: pv-test-device --log DIR --port-link PATH [--preload N] [--scan FILE]\n"
-               "                      [--noise PERCENT] [--seed S] [--max-dry KG_M3] [--seconds S]\n");
+               "                      [--noise PERCENT] [--seed S] [--max-dry KG_M3] [--seconds S]\n"
+               "                      [--lose-id ID]\n");
   return 2;
 }
 
@@ -440,6 +437,7 @@ int main(int argc, char **argv) {
     else if (a == "--seed") d.opt.seed = std::strtoull(v, nullptr, 10);
     else if (a == "--max-dry") d.opt.max_dry = std::atof(v);
     else if (a == "--seconds") d.opt.seconds = std::atof(v);
+    else if (a == "--lose-id") d.opt.lose_id = uint32_t(std::atol(v));
     else return usage();
   }
   if (d.opt.log_dir.empty() || d.opt.port_link.empty()) return usage();
