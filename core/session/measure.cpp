@@ -203,16 +203,20 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
   out->tilt_deg = t.tilt_deg();
   if (out->tilt_deg > 30.0 && out->tilt_deg < 150.0) out->warnings |= PV_WARN_LARGE_TILT;
 
+  // Method surface levels on the ground or the rim plane (level_surface.cpp).
+  double surface_rim_mm = -1.0;
+  if (s->cfg.method == PV_METHOD_SURFACE) surface_rim_mm = level_for_surface(s, &t);
   const uint64_t outside = assign_layers(s, t);
   out->points_out_of_range = s->points_out_of_range + outside;
   out->points_stored = s->bins.stored() - outside;
   if (out->points_out_of_range * 100 > s->points_in) out->warnings |= PV_WARN_OUT_OF_RANGE;
 
   bool ground = false;
-  const double rim_mm = rim_height(s, t, &ground);
+  const double rim_mm = surface_rim_mm > 0 ? surface_rim_mm : rim_height(s, t, &ground);
   if (!(rim_mm > 4 * kEndGuardMm)) return fail(PV_ERR_NO_RIM);
   if (rim_mm > s->grid.top_mm() - 2 * kEndGuardMm) return fail(PV_ERR_DEPTH_EXCEEDS_CAPACITY);
   out->depth_mm = rim_mm;
+  if (s->cfg.method == PV_METHOD_SURFACE) return measure_surface(s, t, rim_mm, out);
 
   // Per-layer areas of the usable band [guard, rim - guard].
   size_t m = 0;
