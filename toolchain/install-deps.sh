@@ -12,6 +12,7 @@ packages=(
   libembree-dev      # ray casting in the scanner simulator (host only)
   libusb-1.0-0-dev   # the scanner's USB driver (drivers/usb)
   umockdev libumockdev-dev  # emulated USB scanner for the usb tests
+  nanopb libnanopb-dev      # serial link messages (firmware/link/pitvol_link.proto)
   "$@"
 )
 
