@@ -42,6 +42,7 @@ bool level_on_ground(pv_session *s, levelling::Transform *t) {
 }
 
 // Sector tops of the stored points (levelled by t) around their centre.
+// The floor store holds only the bottom: its points are not needed here.
 void sector_tops(const pv_session *s, const levelling::Transform &t, rim::SectorTops *tops) {
   double sx = 0, sy = 0;
   uint64_t n = 0;

@@ -25,16 +25,22 @@ struct Levelled {
   const levelling::Transform *t;
 };
 
-void visit_points(void *ctx, surface::PointFn fn, void *fn_ctx) {
-  const auto *lv = static_cast<const Levelled *>(ctx);
-  const binning::LayerBins &bins = lv->s->bins;
+void visit_bins(const binning::LayerBins &bins, const levelling::Transform &t,
+                surface::PointFn fn, void *fn_ctx) {
   for (uint32_t b = 0; b < bins.layers(); ++b) {
     const P3 *pts = bins.points(b);
     for (uint32_t i = 0; i < bins.count(b); ++i) {
-      const Eigen::Vector3d v = lv->t->apply(pts[i]);
+      const Eigen::Vector3d v = t.apply(pts[i]);
       fn(fn_ctx, surface::Point{v.x(), v.y(), v.z()});
     }
   }
+}
+
+// Every stored point: the layer bins, then the floor store.
+void visit_points(void *ctx, surface::PointFn fn, void *fn_ctx) {
+  const auto *lv = static_cast<const Levelled *>(ctx);
+  visit_bins(lv->s->bins, *lv->t, fn, fn_ctx);
+  visit_bins(lv->s->floor_bins, *lv->t, fn, fn_ctx);
 }
 
 // The widest run of height bands seen on less than half their wall.
@@ -79,7 +85,9 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   const surface::Volume v = surface::integrate(s->surf, m, p);
   out->coverage_bands = PV_COVERAGE_BANDS;
   surface::coverage(s->surf, m, p, PV_COVERAGE_BANDS, out->coverage);
-  out->points_used = s->bins.stored();
+  out->points_used = s->bins.stored() + s->floor_bins.stored();
+  out->points_stored = out->points_used;
+  if (s->floor_bins.thinned() > 0) out->warnings |= PV_WARN_POINTS_THINNED;
   out->layers_used = m.seen_bins;
   out->layers_rejected = m.rejected_bins;
   out->rim_area_mm2 = v.rim_area_mm2;

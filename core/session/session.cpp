@@ -34,6 +34,10 @@ void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
     ++s->points_out_of_range;
     return;
   }
+  if (uint32_t(j) < s->floor_layers) {
+    s->floor_bins.insert(0, p, hash);
+    return;
+  }
   s->bins.insert(uint32_t(j), p, hash);
 }
 
@@ -117,6 +121,9 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->seq_scratch = cv.take<double>(o->seq_scratch_cap);
   o->layer_info = cv.take<pv_layer_info_t>(layers);
   if (c.method == PV_METHOD_SURFACE) {
+    void *floor_mem =
+        cv.take<unsigned char>(binning::LayerBins::bytes_needed(1, kFloorStorePoints));
+    if (block != nullptr) o->floor_bins.init(floor_mem, 1, kFloorStorePoints);
     const surface::Capacity sc = surface_capacity(c);
     void *mem = cv.take<unsigned char>(surface::bytes_needed(sc));
     if (block != nullptr) surface::make_workspace(mem, sc, &o->surf);
@@ -140,6 +147,7 @@ void reset_counters(pv_session *s) {
   s->next_refine_at = 0;
   s->warmup_count = 0;
   s->bins.clear();
+  if (s->floor_layers > 0) s->floor_bins.clear();
   s->layer_info_count = 0;
 }
 
@@ -169,6 +177,9 @@ extern "C" pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size
   s->grid.below = gridding::layers_below(
       cfg->layer_mm,
       cfg->method == PV_METHOD_SURFACE ? gridding::kSurfaceBelowMm : gridding::kBelowMm);
+  s->floor_layers = cfg->method == PV_METHOD_SURFACE
+                        ? s->grid.below + uint32_t(session::kFloorStoreTopMm / cfg->layer_mm)
+                        : 0;
   const size_t head = PV_BLOCK_ALIGN * ((sizeof(pv_session) + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN);
   session::layout(*cfg, base + head, s);
   reset_counters(s);

@@ -54,6 +54,15 @@ inline uint32_t grid_layers(const pv_config_t &c) {
          gridding::layers_below(c.layer_mm);
 }
 
+// Method surface: the floor is the densest surface of a scan and lies in
+// two or three 0.5 mm layers, whose bins thin it to a few points per
+// square centimetre while the multipath above it is kept whole (measured:
+// 2 mm floor cells with three points were rare, and multipath made false
+// floor). Its points (provisional height below kFloorStoreTopMm) go to one
+// larger store instead of their layer bins.
+constexpr uint32_t kFloorStorePoints = 65536;
+constexpr double kFloorStoreTopMm = 20.0;
+
 // The surface model's grids (method surface only): the whole depth range,
 // and pits up to this radius around their axis.
 constexpr double kSurfaceMaxRadiusMm = 320.0;
@@ -98,6 +107,8 @@ struct pv_session {
 
   pv::gridding::Grid grid;
   pv::binning::LayerBins bins;
+  pv::binning::LayerBins floor_bins;  // method surface: one bin for the floor band
+  uint32_t floor_layers;              // provisional layers below this go there (0: none)
 
   // Finish-time scratch (bounded, inside the block).
   uint32_t *order;        // slot ids sorted by final layer
