@@ -65,6 +65,48 @@ RimPlane fit_rim_plane(const SectorTops &t) {
     use[s] = top[s] >= 0;
   }
   double a = 0, b = 0, c = 0;  // z = a + b x + c y
+  // Consensus first: every triple of sector tops (36 choose 3 = 7140) as a
+  // plane; the one with most tops within kOnPlaneMm wins. A few sectors
+  // whose top was not scanned (their highest points are lower wall) then
+  // cannot tilt the start of the least squares.
+  uint32_t best = 0;
+  for (uint32_t i = 0; i < kRimSectors; ++i) {
+    if (!use[i]) continue;
+    for (uint32_t j = i + 1; j < kRimSectors; ++j) {
+      if (!use[j]) continue;
+      for (uint32_t k = j + 1; k < kRimSectors; ++k) {
+        if (!use[k]) continue;
+        Eigen::Matrix3d A;
+        Eigen::Vector3d r;
+        const uint32_t idx[3] = {i, j, k};
+        for (int q = 0; q < 3; ++q) {
+          const uint32_t s = idx[q];
+          A.row(q) << 1.0, double(t.x[s][top[s]]), double(t.y[s][top[s]]);
+          r(q) = double(t.z[s][top[s]]);
+        }
+        if (std::fabs(A.determinant()) < 1e-6) continue;
+        const Eigen::Vector3d sol = A.partialPivLu().solve(r);
+        uint32_t cnt = 0;
+        for (uint32_t s = 0; s < kRimSectors; ++s) {
+          if (top[s] < 0) continue;
+          const double e = double(t.z[s][top[s]]) -
+                           (sol(0) + sol(1) * t.x[s][top[s]] + sol(2) * t.y[s][top[s]]);
+          cnt += std::fabs(e) <= kOnPlaneMm;
+        }
+        if (cnt > best) {
+          best = cnt;
+          a = sol(0);
+          b = sol(1);
+          c = sol(2);
+        }
+      }
+    }
+  }
+  for (uint32_t s = 0; s < kRimSectors; ++s) {
+    if (top[s] < 0) continue;
+    const double e = double(t.z[s][top[s]]) - (a + b * t.x[s][top[s]] + c * t.y[s][top[s]]);
+    use[s] = std::fabs(e) <= kOnPlaneMm;
+  }
   for (int round = 0; round < 3; ++round) {
     Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
     Eigen::Vector3d r = Eigen::Vector3d::Zero();
