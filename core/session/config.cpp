@@ -29,6 +29,7 @@ extern "C" void pv_config_default(pv_config_t *cfg) {
   cfg->mad_k_early = 4.5f;      // measured: core/cleanup/mad_filter.h (C4)
   cfg->mad_k_late = 3.5f;
   cfg->mad_split_mm = 30.0f;
+  cfg->max_unseen_share = 0.30f;   // docs/method.md (method surface)
 }
 
 namespace {
@@ -63,6 +64,7 @@ extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **f
   else if (!in_range(cfg->mad_k_early, 0.5f, 100.0f)) bad = "mad_k_early";
   else if (!in_range(cfg->mad_k_late, 0.5f, 100.0f)) bad = "mad_k_late";
   else if (!in_range(cfg->mad_split_mm, 0.0f, 1000.0f)) bad = "mad_split_mm";
+  else if (!in_range(cfg->max_unseen_share, 0.0f, 1.0f)) bad = "max_unseen_share";
   if (field_out != nullptr) *field_out = bad;
   return bad == nullptr ? PV_OK : PV_ERR_INVALID_CONFIG;
 }

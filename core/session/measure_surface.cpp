@@ -11,9 +11,6 @@ namespace pv::session {
 
 namespace {
 
-// Above this share of the volume resting on bridged (unseen) wall, the
-// scan cannot support a number (docs/method.md, measured on the corpus).
-constexpr double kMaxUnseenShare = 0.30;
 // Relative part of the interval for what bridging does not cover: the
 // levelling, the fit of seen bins (docs/method.md).
 constexpr double kBaseRelInterval = 0.0010;
@@ -97,7 +94,9 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
     out->status = PV_ERR_TOO_FEW_LAYERS;
     return out->status;
   }
-  if (out->unseen_share > kMaxUnseenShare) {
+  // Above this share of the volume resting on bridged (unseen) wall, the
+  // scan cannot support a number (pv_config_t, docs/method.md).
+  if (out->unseen_share > double(s->cfg.max_unseen_share)) {
     widest_unseen_band(*out, rim_mm, &out->gap_from_mm, &out->gap_to_mm);
     out->status = PV_ERR_WALL_GAP;
     return out->status;

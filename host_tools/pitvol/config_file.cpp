@@ -37,6 +37,7 @@ const Field kFields[] = {
     {"mad_k_early", &pv_config_t::mad_k_early, nullptr},
     {"mad_k_late", &pv_config_t::mad_k_late, nullptr},
     {"mad_split_mm", &pv_config_t::mad_split_mm, nullptr},
+    {"max_unseen_share", &pv_config_t::max_unseen_share, nullptr},
 };
 
 std::string trim(const std::string &s) {

@@ -106,6 +106,10 @@ typedef struct pv_config {
   float mad_k_early;
   float mad_k_late;
   float mad_split_mm;           /* 30: late segment = last 30 mm above bottom */
+
+  /* method surface (docs/method.md) */
+  float max_unseen_share;       /* refuse (PV_ERR_WALL_GAP) when more of the
+                                   volume than this rests on unseen wall */
 } pv_config_t;
 
 /* Fills the paper's defaults and the default capacities (docs/method.md). */
