@@ -214,6 +214,11 @@ struct HandheldScan::Impl {
               0.15 * j.ang.at(u);
     double rf = 0.75 + 0.40 * std::cos(2.0 * kPi * u / kLoops + j.a_r) + 0.10 * j.rad.at(u);
     rf = std::clamp(rf, 0.3, 1.2);
+    // An operator who walks only part of the way round stays at the rim
+    // (the scanner does not reach over the pit).
+    if (p.path_arc_deg < 360.0)
+      rf = std::clamp(1.1 + 0.1 * std::cos(2.0 * kPi * u / kLoops + j.a_r) + 0.05 * j.rad.at(u),
+                      1.0, 1.25);
     double h = 250.0 + 75.0 * std::sin(2.0 * kPi * 1.5 * u / kLoops + j.a_h) + 30.0 * j.hgt.at(u);
     h = std::clamp(h, 150.0, 350.0);
     const V3 pos{rf * radius * std::cos(phi), rf * radius * std::sin(phi), rim + h};
@@ -224,7 +229,10 @@ struct HandheldScan::Impl {
     const double wa = phi + kPi + 0.4 * j.wall_ang.at(u);
     const V3 wall_pt{0.9 * radius * std::cos(wa), 0.9 * radius * std::sin(wa),
                      zfloor + depth * (0.15 + 0.7 * (0.5 + 0.5 * j.wall_depth.at(u)))};
-    const double w = std::clamp(0.5 + 0.8 * j.w.at(u), 0.0, 1.0);
+    // Along a partial arc the operator aims across at the far wall (never
+    // down and back at the wall below them).
+    const double w = p.path_arc_deg < 360.0 ? std::clamp(0.85 + 0.3 * j.w.at(u), 0.6, 1.0)
+                                            : std::clamp(0.5 + 0.8 * j.w.at(u), 0.0, 1.0);
     const V3 target = (1.0 - w) * axis_pt + w * wall_pt;
 
     Pose ps;

@@ -34,8 +34,10 @@ struct ScanParams {
   // Stress options (the defaults leave every scan bit-identical):
   // - path_arc_deg < 360: the operator walks only part of the way round;
   //   the scanner's azimuth sweeps back and forth over this arc instead of
-  //   circling, so the wall on the unwalked side is seen little or not at
-  //   all (one side missing);
+  //   circling, stays at the rim (1.0-1.25 x the pit radius out, not over
+  //   the pit) and aims mostly across at the far wall, so the wall below the
+  //   walked arc is seen little or not at all (one side missing; at 90 deg
+  //   about a 60 deg sector of wall gets nearly nothing);
   // - dropout_patches > 0: wet or dark soil that returns nothing: that many
   //   balls, radius drawn in [dropout_radius_min_mm, max], centred on points
   //   drawn uniformly (by area) on the wall and floor; a hit inside a ball
