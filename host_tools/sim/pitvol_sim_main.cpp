@@ -1,7 +1,10 @@
 // pitvol-sim: simulated handheld scans of pits with exactly known volume.
 //
 //   pitvol-sim scan --family NAME [--no-ground] [--seed S] [--points N]
-//                   [--noise MM] [--tilt MAX_DEG] --out PREFIX
+//                   [--noise MM] [--tilt MAX_DEG] [--arc DEG] [--dropouts N]
+//                   [--ground-tilt DEG] [--depth MM] --out PREFIX
+//       (--arc, --dropouts, --ground-tilt, --depth: the stress options of
+//       ScanParams / PitOptions, see the stress corpus)
 //       writes PREFIX.ply, PREFIX.frames (USB frame stream), PREFIX.json
 //   pitvol-sim corpus [--set standard|holdout|stress] --out DIR
 //       writes a corpus (default: the standard set): DIR/<case>.ply,
@@ -26,7 +29,8 @@ int usage(const char *why) {
   if (why) std::fprintf(stderr, "pitvol-sim: %s\n", why);
   std::fprintf(stderr,
                "usage: pitvol-sim scan --family NAME [--no-ground] [--seed S] [--points N]\n"
-               "                       [--noise MM] [--tilt MAX_DEG] --out PREFIX\n"
+               "                       [--noise MM] [--tilt MAX_DEG] [--arc DEG] [--dropouts N]\n"
+               "                       [--ground-tilt DEG] [--depth MM] --out PREFIX\n"
                "       pitvol-sim corpus [--set standard|holdout|stress] --out DIR\n"
                "       pitvol-sim families\n");
   return 2;
@@ -149,6 +153,18 @@ int run(int argc, char **argv) {
       ++i;
     } else if (a == "--tilt" && more && parse_num(argv[i + 1], &v) && v >= 0 && v <= 180) {
       one.scan.max_tilt_deg = v;
+      ++i;
+    } else if (a == "--arc" && more && parse_num(argv[i + 1], &v) && v > 0 && v <= 360) {
+      one.scan.path_arc_deg = v;
+      ++i;
+    } else if (a == "--dropouts" && more && parse_num(argv[i + 1], &v) && v >= 0 && v <= 1000) {
+      one.scan.dropout_patches = uint32_t(v);
+      ++i;
+    } else if (a == "--ground-tilt" && more && parse_num(argv[i + 1], &v) && v >= -15 && v <= 15) {
+      one.pit.ground_tilt_deg = v;
+      ++i;
+    } else if (a == "--depth" && more && parse_num(argv[i + 1], &v) && v >= 20 && v <= 2000) {
+      one.pit.depth_mm = v;
       ++i;
     } else {
       return usage(("unknown or incomplete option '" + a + "'").c_str());
