@@ -5,8 +5,10 @@
 // - scanned: what a scanner can see: wall, floor, and the ground ring around
 //   the rim when the pit has one;
 // - void_closed: the void below the rim plane, closed by a lid in the rim
-//   plane. Its signed volume (divergence theorem) is the ground truth: exact
-//   for the very surface the scanner rays hit, independent of any slicing.
+//   plane (with PitOptions::ground_tilt_deg, below the tilted ground plane,
+//   the lid being that plane). Its signed volume (divergence theorem) is the
+//   ground truth: exact for the very surface the scanner rays hit,
+//   independent of any slicing.
 // Both meshes share the wall and floor vertices, so the truth and the scan
 // describe one surface. Everything is deterministic in (family, ground, seed).
 #ifndef PV_SIM_PIT_GEOMETRY_H
