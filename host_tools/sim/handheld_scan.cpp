@@ -148,6 +148,7 @@ struct HandheldScan::Impl {
   double tilt = 0.0;
 
   Rng path_rng{}, noise_rng{};
+  std::vector<DropoutPatch> patches;
   PassJitter jit{};
   int pass = 0;
   uint64_t frame_in_pass = 0;
@@ -205,9 +206,19 @@ struct HandheldScan::Impl {
 
   Pose pose(double u) const {
     const PassJitter &j = jit;
-    const double phi = j.phi0 + j.dir * 2.0 * kPi * u + 0.15 * j.ang.at(u);
+    // Circling, or sweeping back and forth over a partial arc (one loop of
+    // u per sweep end to end).
+    const double phi = p.path_arc_deg >= 360.0
+        ? j.phi0 + j.dir * 2.0 * kPi * u + 0.15 * j.ang.at(u)
+        : j.phi0 + (std::max(0.0, p.path_arc_deg) * kPi / 180.0) * (0.5 - 0.5 * std::cos(kPi * u)) +
+              0.15 * j.ang.at(u);
     double rf = 0.75 + 0.40 * std::cos(2.0 * kPi * u / kLoops + j.a_r) + 0.10 * j.rad.at(u);
     rf = std::clamp(rf, 0.3, 1.2);
+    // An operator who walks only part of the way round stays at the rim
+    // (the scanner does not reach over the pit).
+    if (p.path_arc_deg < 360.0)
+      rf = std::clamp(1.1 + 0.1 * std::cos(2.0 * kPi * u / kLoops + j.a_r) + 0.05 * j.rad.at(u),
+                      1.0, 1.25);
     double h = 250.0 + 75.0 * std::sin(2.0 * kPi * 1.5 * u / kLoops + j.a_h) + 30.0 * j.hgt.at(u);
     h = std::clamp(h, 150.0, 350.0);
     const V3 pos{rf * radius * std::cos(phi), rf * radius * std::sin(phi), rim + h};
@@ -218,7 +229,10 @@ struct HandheldScan::Impl {
     const double wa = phi + kPi + 0.4 * j.wall_ang.at(u);
     const V3 wall_pt{0.9 * radius * std::cos(wa), 0.9 * radius * std::sin(wa),
                      zfloor + depth * (0.15 + 0.7 * (0.5 + 0.5 * j.wall_depth.at(u)))};
-    const double w = std::clamp(0.5 + 0.8 * j.w.at(u), 0.0, 1.0);
+    // Along a partial arc the operator aims across at the far wall (never
+    // down and back at the wall below them).
+    const double w = p.path_arc_deg < 360.0 ? std::clamp(0.85 + 0.3 * j.w.at(u), 0.6, 1.0)
+                                            : std::clamp(0.5 + 0.8 * j.w.at(u), 0.0, 1.0);
     const V3 target = (1.0 - w) * axis_pt + w * wall_pt;
 
     Pose ps;
@@ -308,6 +322,49 @@ struct HandheldScan::Impl {
     return std::min(1.0, std::pow(cos_i, kIncidenceExp));
   }
 
+  // Dropout patch centres uniform by area on the wall and floor (the
+  // non-ground triangles), from their own stream.
+  void draw_patches() {
+    patches.clear();
+    if (p.dropout_patches == 0) return;
+    std::vector<double> cum;
+    std::vector<uint32_t> ids;
+    double total = 0.0;
+    for (uint32_t k = 0; k < tri.size() / 3; ++k) {
+      if (ground_tri[k]) continue;
+      const V3 a = vertex(tri[3 * k]), b = vertex(tri[3 * k + 1]), c = vertex(tri[3 * k + 2]);
+      total += 0.5 * norm(cross(b - a, c - a));
+      cum.push_back(total);
+      ids.push_back(k);
+    }
+    if (ids.empty()) return;
+    Rng r{derive_seed(p.seed, 5)};
+    const double lo = std::max(0.0, p.dropout_radius_min_mm);
+    const double hi = std::max(lo, p.dropout_radius_max_mm);
+    for (uint32_t i = 0; i < p.dropout_patches; ++i) {
+      const double at = r.uniform(0.0, total);
+      const size_t pos = std::min(ids.size() - 1, static_cast<size_t>(
+          std::lower_bound(cum.begin(), cum.end(), at) - cum.begin()));
+      const uint32_t k = ids[pos];
+      double b1 = r.uniform(), b2 = r.uniform();
+      if (b1 + b2 > 1.0) {
+        b1 = 1.0 - b1;
+        b2 = 1.0 - b2;
+      }
+      const V3 a = vertex(tri[3 * k]), b = vertex(tri[3 * k + 1]), c = vertex(tri[3 * k + 2]);
+      const V3 q = a + b1 * (b - a) + b2 * (c - a);
+      patches.push_back({q.x, q.y, q.z, r.uniform(lo, hi)});
+    }
+  }
+
+  bool in_dropout(V3 s) const {
+    for (const DropoutPatch &d : patches) {
+      const V3 e{s.x - d.x_mm, s.y - d.y_mm, s.z - d.z_mm};
+      if (dot(e, e) < d.radius_mm * d.radius_mm) return true;
+    }
+    return false;
+  }
+
   pv_point_t to_world(V3 q) const {
     pv_point_t o;
     o.x_mm = static_cast<float>(R[0] * q.x + R[1] * q.y + R[2] * q.z + t[0]);
@@ -337,12 +394,14 @@ struct HandheldScan::Impl {
     radius = pit.max_radius_mm > 0.0 ? pit.max_radius_mm : std::max(1.0, rmax);
 
     const double tol = 1e-3 * std::max(1.0, std::fabs(rim));
-    ground_tri.assign(tri.size() / 3, 0);
-    for (size_t k = 0; k < tri.size() / 3; ++k) {
+    const size_t nt = tri.size() / 3;
+    const size_t ground_from = nt - std::min(nt, pit.ground_triangles);
+    ground_tri.assign(nt, 0);
+    for (size_t k = 0; k < nt; ++k) {
       bool flat = true;
       for (int c = 0; c < 3; ++c)
         flat = flat && std::fabs(xyz[3 * tri[3 * k + c] + 2] - rim) <= tol;
-      ground_tri[k] = flat ? 1 : 0;
+      ground_tri[k] = (flat || k >= ground_from) ? 1 : 0;  // the ring, even tilted
     }
     build_scene();
 
@@ -374,6 +433,7 @@ struct HandheldScan::Impl {
     box_lo = {-f * radius, -f * radius, zc - 0.5 * f * std::max(depth, radius)};
     box_hi = {f * radius, f * radius, zc + 0.5 * f * std::max(depth, radius)};
 
+    draw_patches();
     path_rng = Rng{derive_seed(p.seed, 3)};
     noise_rng = Rng{derive_seed(p.seed, 4)};
     draw_pass();
@@ -416,6 +476,7 @@ struct HandheldScan::Impl {
     const double sp = std::max(0.0, p.stray_share);
     const double sigma = std::max(0.0, p.noise_mm);
     cast(ps, [&](V3 s, V3 d, double thit, double cos_i) {
+      if (!patches.empty() && in_dropout(s)) return;  // wet or dark soil
       // The pattern fades at grazing incidence: keep with keep_probability.
       if (noise_rng.uniform() >= keep_probability(cos_i)) return;
       const double r = noise_rng.uniform();
@@ -459,5 +520,9 @@ void HandheldScan::transform(double R[9], double t[3]) const {
 }
 
 double HandheldScan::tilt_deg() const { return impl_->tilt; }
+
+const std::vector<DropoutPatch> &HandheldScan::dropout_patches() const {
+  return impl_->patches;
+}
 
 }  // namespace pv::sim

@@ -31,6 +31,26 @@ struct ScanParams {
   double fov_deg = 50.0;
   uint32_t rays_x = 80, rays_y = 60;  // ray grid per frame
   double frames_per_s = 20.0;       // timestamps of the frame stream
+  // Stress options (the defaults leave every scan bit-identical):
+  // - path_arc_deg < 360: the operator walks only part of the way round;
+  //   the scanner's azimuth sweeps back and forth over this arc instead of
+  //   circling, stays at the rim (1.0-1.25 x the pit radius out, not over
+  //   the pit) and aims mostly across at the far wall, so the wall below the
+  //   walked arc is seen little or not at all (one side missing; at 90 deg
+  //   about a 60 deg sector of wall gets nearly nothing);
+  // - dropout_patches > 0: wet or dark soil that returns nothing: that many
+  //   balls, radius drawn in [dropout_radius_min_mm, max], centred on points
+  //   drawn uniformly (by area) on the wall and floor; a hit inside a ball
+  //   emits nothing (no point, no multipath, no stray).
+  double path_arc_deg = 360.0;
+  uint32_t dropout_patches = 0;
+  double dropout_radius_min_mm = 20.0;
+  double dropout_radius_max_mm = 40.0;
+};
+
+// A dropout patch, in the pit frame.
+struct DropoutPatch {
+  double x_mm, y_mm, z_mm, radius_mm;
 };
 
 struct Frame {
@@ -51,6 +71,8 @@ class HandheldScan {
   // The applied rigid transform, world = R * pit + t (row-major R).
   void transform(double R[9], double t[3]) const;
   double tilt_deg() const;
+  // The dropout patches drawn for this scan (empty by default).
+  const std::vector<DropoutPatch> &dropout_patches() const;
 
  private:
   struct Impl;

@@ -3,7 +3,8 @@
 // Every family is a star-shaped wall r(theta, t) sampled on a grid of rings
 // (one ring per nominal depth t, the same angles on every ring), closed at
 // the bottom by a polar-grid floor (or, for the bowl, a single vertex) and at
-// the top by a fan lid in the rim plane. The scanned mesh is the same wall
+// the top by a fan lid in the rim plane (or in the tilted ground plane, see
+// PitOptions). The scanned mesh is the same wall
 // and floor (same vertex indices) without the lid, plus the optional ground
 // annulus whose inner boundary is the rim ring.
 //
@@ -27,6 +28,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 #include <utility>
 
 namespace pv::sim {
@@ -270,7 +272,21 @@ void annulus_down(std::vector<uint32_t> &tri, const std::function<size_t(size_t)
   }
 }
 
-Pit build(const Shape &S, Family fam, bool ground, uint64_t seed) {
+// Height of the tilted ground plane above the rim height at (x, y).
+struct GroundPlane {
+  double gx = 0.0, gy = 0.0;
+  bool tilted = false;
+  explicit GroundPlane(const PitOptions &o) {
+    if (o.ground_tilt_deg == 0.0) return;
+    const double s = std::tan(o.ground_tilt_deg * kPi / 180.0);
+    gx = s * std::cos(o.ground_tilt_azimuth_rad);
+    gy = s * std::sin(o.ground_tilt_azimuth_rad);
+    tilted = true;
+  }
+  double at(double x, double y) const { return gx * x + gy * y; }
+};
+
+Pit build(const Shape &S, Family fam, bool ground, uint64_t seed, const PitOptions &opt) {
   Pit pit{};
   pit.family = fam;
   pit.ground = ground;
@@ -291,6 +307,14 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed) {
   if (S.floor)
     for (size_t j = 0; j < na; ++j)
       edge[j] = S.floor(rb[j] * cs[j], rb[j] * sn[j], 1.0, S.theta[j]);
+  if (opt.stone_height_mm != 0.0) {
+    // The stone must lie on a floor grid and clear the wall.
+    const double reach = std::hypot(opt.stone_x_mm, opt.stone_y_mm) + opt.stone_radius_mm + 2.0;
+    if (S.closing_vertex || opt.stone_height_mm < 0.0 || opt.stone_radius_mm <= 0.0 ||
+        reach > *std::min_element(rb.begin(), rb.end()))
+      throw std::invalid_argument("make_pit: the stone must sit on a flat floor, clear of the wall");
+  }
+  const GroundPlane plane(opt);
 
   Mesh &v = pit.void_closed;
   v.xyz.resize(3 * na * nr);
@@ -308,6 +332,17 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed) {
           (edge[j] != 0.0 && blend > 0.0) ? static_cast<float>(td + edge[j] * blend) : tf;
     }
     round_ring(px, py, &v.xyz[3 * k * na], &v.xyz[3 * k * na + 1], 3);
+    if (plane.tilted) {
+      // Shear in z: 0 at the floor, the whole plane offset at the rim.
+      const double share = td / static_cast<double>(hf);
+      for (size_t j = 0; j < na; ++j) {
+        float *q = &v.xyz[3 * (k * na + j)];
+        const double blend = std::max(0.0, 1.0 - td / S.floor_blend_mm);
+        const double z0 = (edge[j] != 0.0 && blend > 0.0) ? td + edge[j] * blend : td;
+        q[2] = static_cast<float>(z0 + share * plane.at(static_cast<double>(q[0]),
+                                                        static_cast<double>(q[1])));
+      }
+    }
     for (size_t j = 0; j < na; ++j) {
       const double r = std::hypot(static_cast<double>(v.xyz[3 * (k * na + j)]),
                                   static_cast<double>(v.xyz[3 * (k * na + j) + 1]));
@@ -381,14 +416,20 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed) {
       for (size_t j = 0; j < na; ++j) {
         const double rx = static_cast<double>(v.xyz[3 * W(nr - 1, j)]);
         const double ry = static_cast<double>(v.xyz[3 * W(nr - 1, j) + 1]);
-        push_vertex(sc.xyz, i == mg ? ox[j] : rx + s * (ox[j] - rx),
-                    i == mg ? oy[j] : ry + s * (oy[j] - ry), pit.rim_z_mm);
+        const double x = i == mg ? ox[j] : rx + s * (ox[j] - rx);
+        const double y = i == mg ? oy[j] : ry + s * (oy[j] - ry);
+        const double z =
+            plane.tilted ? pit.rim_z_mm + plane.at(static_cast<double>(static_cast<float>(x)),
+                                                   static_cast<double>(static_cast<float>(y)))
+                         : pit.rim_z_mm;
+        push_vertex(sc.xyz, x, y, z);
       }
     }
     auto G = [&](size_t i, size_t j) { return i == 0 ? W(nr - 1, j) : gbase + (i - 1) * na + j; };
     for (size_t i = 0; i < mg; ++i)
       annulus_down(sc.tri, [&](size_t j) { return G(i, j); }, [&](size_t j) { return G(i + 1, j); },
                    na);
+    pit.ground_triangles = 2 * na * mg;
   }
 
   pit.max_radius_mm = max_r;
@@ -412,6 +453,23 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed) {
                   ground_w, pit.ground_outer_radius_mm);
     out += buf;
   }
+  // Stress options, only when used (the standard pits' JSON is unchanged).
+  Json extra;
+  if (opt.depth_mm > 0.0) extra.boolean("depth_override", true);
+  if (plane.tilted) {
+    extra.num("ground_tilt_deg", opt.ground_tilt_deg);
+    extra.num("ground_tilt_azimuth_rad", opt.ground_tilt_azimuth_rad);
+    extra.str("lid", "tilted ground plane");
+  }
+  if (opt.stone_height_mm != 0.0) {
+    extra.num("stone_height_mm", opt.stone_height_mm);
+    extra.num("stone_radius_mm", opt.stone_radius_mm);
+    extra.num("stone_x_mm", opt.stone_x_mm);
+    extra.num("stone_y_mm", opt.stone_y_mm);
+    extra.num("stone_volume_mm3", stone_volume_mm3(opt.stone_height_mm, opt.stone_radius_mm));
+  }
+  const std::string ex = extra.done();
+  if (ex.size() > 2) out = out.substr(0, out.size() - 1) + "," + ex.substr(1);
   pit.params_json = out;
   return pit;
 }
@@ -753,11 +811,33 @@ bool family_from_name(const std::string &name, Family *out) {
   return false;
 }
 
-Pit make_pit(Family f, bool ground, uint64_t seed) {
+Pit make_pit(Family f, bool ground, uint64_t seed, const PitOptions &opt) {
   if (static_cast<int>(f) < 0 || f >= Family::kCount) f = Family::Cylinder;
   Rng rng(mix_seed(seed, static_cast<uint64_t>(f) + 1));
-  const Shape S = make_shape(f, rng);
-  return build(S, f, ground, seed);
+  Shape S = make_shape(f, rng);
+  if (opt.depth_mm > 0.0) {
+    // Only where nothing else was drawn relative to the depth.
+    if (f != Family::Cylinder && f != Family::ShallowWide && f != Family::DeepNarrow)
+      throw std::invalid_argument("make_pit: a depth override needs a cylinder-like family");
+    S.h = q(opt.depth_mm);
+    S.t = build_levels(0.0, S.h, S.ring_step_mm, S.ring_step_mm, {});
+  }
+  if (opt.stone_height_mm != 0.0) {
+    const double H = opt.stone_height_mm, a = opt.stone_radius_mm;
+    const double cx = opt.stone_x_mm, cy = opt.stone_y_mm;
+    auto base = S.floor;
+    S.floor = [base, H, a, cx, cy](double x, double y, double s, double th) {
+      const double d = std::hypot(x - cx, y - cy);
+      const double stone = d < a ? 0.5 * H * (1.0 + std::cos(kPi * d / a)) : 0.0;
+      return (base ? base(x, y, s, th) : 0.0) + stone;
+    };
+  }
+  return build(S, f, ground, seed, opt);
+}
+
+double stone_volume_mm3(double height_mm, double radius_mm) {
+  // 2 pi int_0^a r H (1 + cos(pi r / a)) / 2 dr = pi H a^2 (1/2 - 2 / pi^2).
+  return kPi * height_mm * radius_mm * radius_mm * (0.5 - 2.0 / (kPi * kPi));
 }
 
 double signed_volume_mm3(const Mesh &m) {

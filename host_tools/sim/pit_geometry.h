@@ -5,8 +5,10 @@
 // - scanned: what a scanner can see: wall, floor, and the ground ring around
 //   the rim when the pit has one;
 // - void_closed: the void below the rim plane, closed by a lid in the rim
-//   plane. Its signed volume (divergence theorem) is the ground truth: exact
-//   for the very surface the scanner rays hit, independent of any slicing.
+//   plane (with PitOptions::ground_tilt_deg, below the tilted ground plane,
+//   the lid being that plane). Its signed volume (divergence theorem) is the
+//   ground truth: exact for the very surface the scanner rays hit,
+//   independent of any slicing.
 // Both meshes share the wall and floor vertices, so the truth and the scan
 // describe one surface. Everything is deterministic in (family, ground, seed).
 #ifndef PV_SIM_PIT_GEOMETRY_H
@@ -55,10 +57,45 @@ struct Pit {
   double max_radius_mm;    // largest wall radius (scan path planning)
   double ground_outer_radius_mm;  // 0 without ground
   std::string params_json; // the drawn parameters, a JSON object, for manifests
+  // The last ground_triangles triangles of `scanned` are the ground ring
+  // (0 without ground). The scan sees them from above even when the ring is
+  // tilted out of the rim plane.
+  size_t ground_triangles = 0;
+};
+
+// Departures from a family's drawn shape, for the stress corpus. The
+// defaults change nothing: make_pit(f, g, s, PitOptions()) is bit-identical
+// to the pits of the standard corpus.
+struct PitOptions {
+  // The ground surface tilted against the floor: the ground (and the lid of
+  // void_closed, which IS the ground surface) is the plane
+  //   z = rim_z_mm + tan(tilt) * (x cos(azimuth) + y sin(azimuth)),
+  // through the rim height on the axis. The wall is sheared in z only
+  // (z += (t / depth) * plane offset at the vertex's x, y), so it keeps its
+  // cross-sections, still meets the floor at t = 0 and ends on the plane.
+  // The truth is the void below that plane and above the floor.
+  double ground_tilt_deg = 0.0;
+  double ground_tilt_azimuth_rad = 0.0;
+  // Depth (rim plane height above the floor), replacing the family's draw;
+  // 0 keeps it. Cylinder-like families only (cylinder, shallow_wide,
+  // deep_narrow): make_pit throws std::invalid_argument for the others.
+  double depth_mm = 0.0;
+  // A stone on the floor: a raised-cosine bump of height stone_height_mm and
+  // base radius stone_radius_mm centred at (stone_x_mm, stone_y_mm):
+  //   dz(d) = H (1 + cos(pi d / a)) / 2 for d < a,
+  // volume pi H a^2 (1/2 - 2/pi^2). The void excludes it. 0 height: none.
+  // Families with a floor grid only (all but bowl), and the bump must clear
+  // the wall by 2 mm (else std::invalid_argument).
+  double stone_height_mm = 0.0;
+  double stone_radius_mm = 0.0;
+  double stone_x_mm = 0.0, stone_y_mm = 0.0;
 };
 
 // Parameters are drawn from the seed within the family's ranges.
-Pit make_pit(Family f, bool ground, uint64_t seed);
+Pit make_pit(Family f, bool ground, uint64_t seed, const PitOptions &opt = PitOptions());
+
+// Exact volume of PitOptions' stone (the continuous bump, not its mesh).
+double stone_volume_mm3(double height_mm, double radius_mm);
 
 double signed_volume_mm3(const Mesh &m);
 

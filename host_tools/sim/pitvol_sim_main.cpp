@@ -1,16 +1,20 @@
 // pitvol-sim: simulated handheld scans of pits with exactly known volume.
 //
 //   pitvol-sim scan --family NAME [--no-ground] [--seed S] [--points N]
-//                   [--noise MM] [--tilt MAX_DEG] --out PREFIX
+//                   [--noise MM] [--tilt MAX_DEG] [--arc DEG] [--dropouts N]
+//                   [--ground-tilt DEG] [--depth MM] --out PREFIX
+//       (--arc, --dropouts, --ground-tilt, --depth: the stress options of
+//       ScanParams / PitOptions, see the stress corpus)
 //       writes PREFIX.ply, PREFIX.frames (USB frame stream), PREFIX.json
-//   pitvol-sim corpus --out DIR
-//       writes the standard corpus: DIR/<case>.ply, .frames, and
-//       DIR/manifest.csv + DIR/manifest.json
+//   pitvol-sim corpus [--set standard|holdout|stress] --out DIR
+//       writes a corpus (default: the standard set): DIR/<case>.ply,
+//       .frames, and DIR/manifest.csv + DIR/manifest.json (both name the set)
 //   pitvol-sim families
 #include <sys/stat.h>
 
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -25,10 +29,31 @@ int usage(const char *why) {
   if (why) std::fprintf(stderr, "pitvol-sim: %s\n", why);
   std::fprintf(stderr,
                "usage: pitvol-sim scan --family NAME [--no-ground] [--seed S] [--points N]\n"
-               "                       [--noise MM] [--tilt MAX_DEG] --out PREFIX\n"
-               "       pitvol-sim corpus --out DIR\n"
+               "                       [--noise MM] [--tilt MAX_DEG] [--arc DEG] [--dropouts N]\n"
+               "                       [--ground-tilt DEG] [--depth MM] --out PREFIX\n"
+               "       pitvol-sim corpus [--set standard|holdout|stress] --out DIR\n"
                "       pitvol-sim families\n");
   return 2;
+}
+
+// The set, what the case stresses and the scan options that depart from a
+// plain scan (dropout patches in the pit frame).
+std::string set_json(const CorpusCase &c, const WrittenScan &w) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "\"set\": \"%s\", \"stress\": \"%s\", \"target_points\": %u, "
+                "\"path_arc_deg\": %.3f, \"dropout_patches\": [",
+                c.set.c_str(), c.stress.c_str(), unsigned(c.scan.target_points),
+                c.scan.path_arc_deg);
+  std::string s = buf;
+  for (size_t i = 0; i < w.dropout_patches.size(); ++i) {
+    const DropoutPatch &d = w.dropout_patches[i];
+    std::snprintf(buf, sizeof buf,
+                  "%s{\"x_mm\": %.3f, \"y_mm\": %.3f, \"z_mm\": %.3f, \"radius_mm\": %.3f}",
+                  i ? ", " : "", d.x_mm, d.y_mm, d.z_mm, d.radius_mm);
+    s += buf;
+  }
+  return s + "], ";
 }
 
 std::string manifest_json(const CorpusCase &c, const Pit &pit, const WrittenScan &w,
@@ -43,12 +68,15 @@ std::string manifest_json(const CorpusCase &c, const Pit &pit, const WrittenScan
                 (unsigned long long)c.seed, (unsigned long long)c.scan.seed, c.scan.noise_mm,
                 (unsigned long long)w.points, (unsigned long long)w.frames, w.tilt_deg,
                 pit.volume_mm3 / 1000.0, stem.c_str(), stem.c_str());
-  return buf + pit.params_json + "}";
+  std::string j = buf;
+  // The set fields go in after the case's own (readers look fields up by name).
+  const size_t at = j.find("\"ply\": ");
+  return j.substr(0, at) + set_json(c, w) + j.substr(at) + pit.params_json + "}";
 }
 
 bool run_case(const CorpusCase &c, const std::string &dir_or_prefix, bool prefix_given,
               std::string *json, std::string *csv_row) {
-  const Pit pit = make_pit(c.family, c.ground, c.seed);
+  const Pit pit = make_pit(c.family, c.ground, c.seed, c.pit);
   const std::string stem = prefix_given ? dir_or_prefix : c.name;
   const std::string base = prefix_given ? dir_or_prefix : dir_or_prefix + "/" + c.name;
   WrittenScan w;
@@ -60,11 +88,12 @@ bool run_case(const CorpusCase &c, const std::string &dir_or_prefix, bool prefix
   const size_t slash = stem.find_last_of('/');
   *json = manifest_json(c, pit, w, slash == std::string::npos ? stem : stem.substr(slash + 1));
   char row[256];
-  std::snprintf(row, sizeof row, "%s,%s,%d,%llu,%.3f,%llu,%.4f,%.6f", c.name.c_str(),
+  std::snprintf(row, sizeof row, "%s,%s,%d,%llu,%.3f,%llu,%.4f,%.6f,%s,%s", c.name.c_str(),
                 family_name(c.family), int(c.ground), (unsigned long long)c.seed, c.scan.noise_mm,
-                (unsigned long long)w.points, w.tilt_deg, pit.volume_mm3 / 1000.0);
+                (unsigned long long)w.points, w.tilt_deg, pit.volume_mm3 / 1000.0, c.set.c_str(),
+                c.stress.c_str());
   *csv_row = row;
-  std::fprintf(stderr, "pitvol-sim: %-22s %8llu points  exact %.3f cm3\n", c.name.c_str(),
+  std::fprintf(stderr, "pitvol-sim: %-32s %8llu points  exact %.3f cm3\n", c.name.c_str(),
                (unsigned long long)w.points, pit.volume_mm3 / 1000.0);
   return true;
 }
@@ -84,7 +113,7 @@ bool parse_num(const char *s, double *out) {
 
 }  // namespace
 
-int main(int argc, char **argv) {
+int run(int argc, char **argv) {
   if (argc < 2) return usage(nullptr);
   const std::string cmd = argv[1];
   if (cmd == "families") {
@@ -95,14 +124,18 @@ int main(int argc, char **argv) {
   one.family = Family::Cylinder;
   one.ground = true;
   one.seed = 1;
+  one.set = "single";
+  one.stress = "none";
   bool have_family = false;
-  std::string out;
+  std::string out, set = "standard";
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     const bool more = i + 1 < argc;
     double v = 0;
     if (a == "--out" && more) {
       out = argv[++i];
+    } else if (a == "--set" && more) {
+      set = argv[++i];
     } else if (a == "--family" && more) {
       if (!family_from_name(argv[++i], &one.family)) return usage("unknown --family (see: pitvol-sim families)");
       have_family = true;
@@ -121,6 +154,18 @@ int main(int argc, char **argv) {
     } else if (a == "--tilt" && more && parse_num(argv[i + 1], &v) && v >= 0 && v <= 180) {
       one.scan.max_tilt_deg = v;
       ++i;
+    } else if (a == "--arc" && more && parse_num(argv[i + 1], &v) && v > 0 && v <= 360) {
+      one.scan.path_arc_deg = v;
+      ++i;
+    } else if (a == "--dropouts" && more && parse_num(argv[i + 1], &v) && v >= 0 && v <= 1000) {
+      one.scan.dropout_patches = uint32_t(v);
+      ++i;
+    } else if (a == "--ground-tilt" && more && parse_num(argv[i + 1], &v) && v >= -15 && v <= 15) {
+      one.pit.ground_tilt_deg = v;
+      ++i;
+    } else if (a == "--depth" && more && parse_num(argv[i + 1], &v) && v >= 20 && v <= 2000) {
+      one.pit.depth_mm = v;
+      ++i;
     } else {
       return usage(("unknown or incomplete option '" + a + "'").c_str());
     }
@@ -128,7 +173,7 @@ int main(int argc, char **argv) {
   if (out.empty()) return usage("--out is required");
   std::string json, row;
   const std::string csv_head =
-      "case,family,ground,seed,noise_mm,points,tilt_deg,exact_volume_cm3\n";
+      "case,family,ground,seed,noise_mm,points,tilt_deg,exact_volume_cm3,set,stress\n";
   if (cmd == "scan") {
     if (!have_family) return usage("scan needs --family");
     one.name = out;
@@ -136,9 +181,10 @@ int main(int argc, char **argv) {
     return write_text(out + ".json", json + "\n") ? 0 : 3;
   }
   if (cmd != "corpus") return usage("unknown command");
+  std::vector<CorpusCase> cases;
+  if (!corpus_by_name(set, &cases)) return usage("unknown --set (standard, holdout or stress)");
   mkdir(out.c_str(), 0755);
   std::string all_json = "[\n", all_csv = csv_head;
-  const std::vector<CorpusCase> cases = standard_corpus();
   for (size_t i = 0; i < cases.size(); ++i) {
     if (!run_case(cases[i], out, false, &json, &row)) return 3;
     all_json += "  " + json + (i + 1 < cases.size() ? ",\n" : "\n");
@@ -150,4 +196,13 @@ int main(int argc, char **argv) {
     return 3;
   }
   return 0;
+}
+
+int main(int argc, char **argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception &e) {  // bad pit options, Embree failures
+    std::fprintf(stderr, "pitvol-sim: %s\n", e.what());
+    return 3;
+  }
 }

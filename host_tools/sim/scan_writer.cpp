@@ -103,6 +103,7 @@ bool write_scan(const Pit &pit, const ScanParams &p, const std::string &ply_path
   out->points = count;
   out->frames = stream.frames();
   out->tilt_deg = scan.tilt_deg();
+  out->dropout_patches = scan.dropout_patches();
   return true;
 }
 

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "sim/handheld_scan.h"
 
@@ -14,6 +15,7 @@ struct WrittenScan {
   uint64_t points = 0;
   uint64_t frames = 0;       // USB frames written
   double tilt_deg = 0;
+  std::vector<DropoutPatch> dropout_patches;  // pit frame
 };
 
 // Runs the scan to its end, streaming points to ply_path (binary little

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <stdexcept>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,7 @@
 using pv::sim::Family;
 using pv::sim::Mesh;
 using pv::sim::Pit;
+using pv::sim::PitOptions;
 
 namespace {
 
@@ -502,6 +505,206 @@ void test_volume_origin_independent(void **) {
   }
 }
 
+// ---------------------------------------------------------------------------
+// Stress options (PitOptions).
+
+// The default options change nothing: the standard corpus's pits are the
+// pits they were (build() paths: plain floor, floor function with the wall
+// blend, closing vertex, 1440 angles; test_corpus_sets pins hashes too).
+void test_default_options_identical(void **) {
+  for (Family f : {Family::Cylinder, Family::HandDug, Family::Bowl, Family::ShallowWide}) {
+    const Pit a = make_pit(f, true, 2), b = make_pit(f, true, 2, PitOptions());
+    assert_true(a.scanned.xyz == b.scanned.xyz && a.scanned.tri == b.scanned.tri);
+    assert_true(a.void_closed.xyz == b.void_closed.xyz);
+    assert_memory_equal(&a.volume_mm3, &b.volume_mm3, sizeof(double));
+    assert_string_equal(a.params_json.c_str(), b.params_json.c_str());
+  }
+  // The ground ring is the tail of the scanned triangles.
+  const Pit g = make_pit(Family::HandDug, true, 2), n = make_pit(Family::HandDug, false, 2);
+  assert_int_equal(g.ground_triangles, g.scanned.triangles() - n.scanned.triangles());
+  assert_int_equal(n.ground_triangles, 0);
+}
+
+// Raised-cosine stone: V = 2 pi int_0^a r H (1 + cos(pi r / a)) / 2 dr, here
+// by composite Simpson (independent of the closed form in the library).
+double stone_simpson(double H, double a) {
+  const int n = 2000;
+  double s = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const double r = a * i / n;
+    const double f = 2 * kPi * r * 0.5 * H * (1 + std::cos(kPi * r / a));
+    s += f * (i == 0 || i == n ? 1 : (i % 2 ? 4 : 2));
+  }
+  return s * (a / n) / 3;
+}
+
+void test_stone(void **) {
+  PitOptions o;
+  o.stone_height_mm = 40.0;
+  o.stone_radius_mm = 35.0;
+  o.stone_x_mm = 35.0;
+  o.stone_y_mm = -20.0;
+  const double exact = stone_simpson(40.0, 35.0);
+  assert_true(rel(pv::sim::stone_volume_mm3(40.0, 35.0), exact) < 1e-12);
+  for (const auto &fs : {std::make_pair(Family::Cylinder, 1ull), std::make_pair(Family::HandDug, 7ull)}) {
+      const Family f = fs.first;
+      const uint64_t seed = fs.second;
+      const Pit p0 = make_pit(f, true, seed), p = make_pit(f, true, seed, o);
+      check_watertight(p.void_closed);
+      check_scanned(p);
+      // The wall is untouched; the void loses the stone.
+      const size_t wall = 3 * static_cast<size_t>(jnum(p.params_json, "angles") *
+                                                  jnum(p.params_json, "rings"));
+      assert_memory_equal(p.void_closed.xyz.data(), p0.void_closed.xyz.data(),
+                          wall * sizeof(float));
+      const double lost = p0.volume_mm3 - p.volume_mm3;
+      print_message("stone on %s seed %llu: void %.1f -> %.1f mm3, lost %.3f mm3, "
+                    "stone %.3f mm3 (rel %+.2e)\n", pv::sim::family_name(f),
+                    static_cast<unsigned long long>(seed), p0.volume_mm3, p.volume_mm3, lost,
+                    exact, (lost - exact) / exact);
+      assert_true(rel(lost, exact) < 1e-4);  // the 2 mm floor grid samples the bump
+      assert_true(rel(jnum(p.params_json, "stone_volume_mm3"), exact) < 1e-12);
+      // Its top: within a grid cell of (35, -20), 40 mm above the floor there.
+      if (f == Family::Cylinder) {
+        double top = -1, tx = 0, ty = 0;
+        for (size_t i = wall / 3; i + 1 < p.void_closed.vertices(); ++i) {
+          double q[3];
+          vtx(p.void_closed, i, q);
+          if (q[2] > top) {
+            top = q[2];
+            tx = q[0];
+            ty = q[1];
+          }
+        }
+        assert_true(top > 39.5 && top <= 40.0 + 1e-4);
+        assert_true(std::hypot(tx - 35.0, ty + 20.0) < 2.0);
+      }
+    }
+  // Where it cannot be: a bowl (no floor grid), against the wall.
+  bool threw = false;
+  try {
+    make_pit(Family::Bowl, false, 1, o);
+  } catch (const std::invalid_argument &) {
+    threw = true;
+  }
+  assert_true(threw);
+  PitOptions wall = o;
+  wall.stone_x_mm = 80.0;
+  threw = false;
+  try {
+    make_pit(Family::Cylinder, false, 1, wall);
+  } catch (const std::invalid_argument &) {
+    threw = true;
+  }
+  assert_true(threw);
+}
+
+// The tilted ground: the lid is the ground plane itself, the ground ring lies
+// on it, the wall is sheared onto it; cross-sections centred on the axis
+// keep their volume (the plane's linear term integrates to zero over them).
+void test_tilted_ground(void **) {
+  PitOptions o;
+  o.ground_tilt_deg = 4.0;
+  o.ground_tilt_azimuth_rad = 1.0;
+  const double gx = std::tan(4.0 * kPi / 180) * std::cos(1.0);
+  const double gy = std::tan(4.0 * kPi / 180) * std::sin(1.0);
+  for (const auto &fs : {std::make_pair(Family::Cylinder, 1ull), std::make_pair(Family::Tapered, 3ull),
+                         std::make_pair(Family::Elliptical, 1ull)}) {
+      const Family f = fs.first;
+      const uint64_t seed = fs.second;
+      const Pit p0 = make_pit(f, true, seed), p = make_pit(f, true, seed, o);
+      check_watertight(p.void_closed);
+      const double h = p.rim_z_mm;
+      assert_true(h == p0.rim_z_mm);
+      // Analytic volume of the untilted pit (polygon prism / frustum / ellipse).
+      const double N = jnum(p.params_json, "angles"), k = 0.5 * N * std::sin(2 * kPi / N);
+      double exact = 0, tol = 1e-8;
+      if (f == Family::Cylinder) {
+        const double R = jnum(p.params_json, "radius_mm");
+        exact = k * R * R * h;
+      } else if (f == Family::Tapered) {
+        const double a = k * std::pow(jnum(p.params_json, "r_bottom_mm"), 2);
+        const double b = k * std::pow(jnum(p.params_json, "r_top_mm"), 2);
+        exact = h / 3 * (a + b + std::sqrt(a * b));
+      } else {
+        exact = p0.volume_mm3;  // itself checked against pi a b h above
+      }
+      print_message("tilted %s seed %llu: V %.3f untilted %.3f analytic %.3f rel %+.2e\n",
+                    pv::sim::family_name(f), static_cast<unsigned long long>(seed), p.volume_mm3,
+                    p0.volume_mm3, exact, (p.volume_mm3 - exact) / exact);
+      assert_true(rel(p.volume_mm3, exact) < tol);
+      assert_true(jnum(p.params_json, "ground_tilt_deg") == 4.0);
+      // The lid (the last `angles` triangles) is the plane through the rim
+      // height on the axis.
+      const Mesh &v = p.void_closed;
+      const size_t lid0 = v.triangles() - static_cast<size_t>(N);
+      double worst = 0, zlo = 1e9, zhi = -1e9;
+      for (size_t t = lid0; t < v.triangles(); ++t)
+        for (int e = 0; e < 3; ++e) {
+          double q[3];
+          vtx(v, v.tri[3 * t + e], q);
+          worst = std::max(worst, std::fabs(q[2] - (h + gx * q[0] + gy * q[1])));
+          zlo = std::min(zlo, q[2]);
+          zhi = std::max(zhi, q[2]);
+        }
+      // And nothing of the void above it.
+      for (size_t i = 0; i < v.vertices(); ++i) {
+        double q[3];
+        vtx(v, i, q);
+        assert_true(q[2] <= h + gx * q[0] + gy * q[1] + 1e-4);
+      }
+      print_message("  lid off the plane by at most %.2e mm, rim z %.2f .. %.2f\n", worst, zlo, zhi);
+      assert_true(worst < 1e-4);
+      const double rise = std::tan(4.0 * kPi / 180) * p.max_radius_mm;
+      assert_true(zhi > h + 0.95 * rise && zlo < h - 0.95 * rise);
+      // The ground ring: the tail of the scanned triangles, on the plane, facing
+      // down, and the same area as the untilted ring / cos(tilt).
+      const Mesh &s = p.scanned;
+      assert_true(p.ground_triangles == p0.ground_triangles && p.ground_triangles > 0);
+      assert_memory_equal(s.xyz.data(), v.xyz.data(), (v.xyz.size() - 3) * sizeof(float));
+      double area = 0, area0 = 0;
+      for (size_t t = s.triangles() - p.ground_triangles; t < s.triangles(); ++t) {
+        double q[3][3], q0[3][3];
+        for (int e = 0; e < 3; ++e) {
+          vtx(s, s.tri[3 * t + e], q[e]);
+          vtx(p0.scanned, p0.scanned.tri[3 * t + e], q0[e]);
+          assert_true(std::fabs(q[e][2] - (h + gx * q[e][0] + gy * q[e][1])) < 1e-4);
+        }
+        const double ux = q[1][0] - q[0][0], uy = q[1][1] - q[0][1], uz = q[1][2] - q[0][2];
+        const double wx = q[2][0] - q[0][0], wy = q[2][1] - q[0][1], wz = q[2][2] - q[0][2];
+        const double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
+        assert_true(nz < 0);
+        area += 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
+        area0 += 0.5 * std::fabs((q0[1][0] - q0[0][0]) * (q0[2][1] - q0[0][1]) -
+                                 (q0[1][1] - q0[0][1]) * (q0[2][0] - q0[0][0]));
+      }
+      assert_true(rel(area * std::cos(4.0 * kPi / 180), area0) < 1e-6);
+    }
+}
+
+void test_depth_override(void **) {
+  PitOptions o;
+  o.depth_mm = 600.0;
+  const Pit p = make_pit(Family::Cylinder, true, 4, o);
+  check_watertight(p.void_closed);
+  check_scanned(p);
+  const double R = jnum(p.params_json, "radius_mm"), N = jnum(p.params_json, "angles");
+  assert_true(p.rim_z_mm == 600.0 && jnum(p.params_json, "depth_mm") == 600.0);
+  // Same radius as without the override (the draws are unchanged).
+  assert_true(R == jnum(make_pit(Family::Cylinder, true, 4).params_json, "radius_mm"));
+  const double exact = 0.5 * N * R * R * std::sin(2 * kPi / N) * 600.0;
+  print_message("600 mm cylinder: V %.3f polygon prism %.3f rel %.2e\n", p.volume_mm3, exact,
+                rel(p.volume_mm3, exact));
+  assert_true(rel(p.volume_mm3, exact) < 1e-9);
+  bool threw = false;
+  try {
+    make_pit(Family::Tapered, true, 4, o);
+  } catch (const std::invalid_argument &) {
+    threw = true;
+  }
+  assert_true(threw);
+}
+
 void test_names(void **) {
   Family f;
   assert_true(pv::sim::family_from_name("hand_dug", &f) && f == Family::HandDug);
@@ -523,6 +726,10 @@ int main(void) {
       cmocka_unit_test(test_family_ranges),
       cmocka_unit_test(test_deterministic),
       cmocka_unit_test(test_volume_origin_independent),
+      cmocka_unit_test(test_default_options_identical),
+      cmocka_unit_test(test_stone),
+      cmocka_unit_test(test_tilted_ground),
+      cmocka_unit_test(test_depth_override),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
