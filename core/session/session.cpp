@@ -228,6 +228,16 @@ pv_status_t guarded_measure(pv_session *s, pv_result_t *out) {
 extern "C" pv_status_t pv_session_estimate(pv_session_t *s, pv_result_t *out) {
   if (s == nullptr || out == nullptr) return PV_ERR_INVALID_ARGUMENT;
   if (s->finished) return PV_ERR_WRONG_STATE;
+  if (!s->have_transform) {
+    // Still warming up: fixing the plane now, from a few points, would bin
+    // the rest of the scan with it and lose points outside its range (an
+    // estimate right after init changed the final volume). No estimate yet.
+    std::memset(out, 0, sizeof *out);
+    out->points_in = s->points_in;
+    out->points_invalid = s->points_invalid;
+    out->status = PV_ERR_TOO_FEW_POINTS;
+    return out->status;
+  }
   return guarded_measure(s, out);
 }
 

@@ -173,7 +173,9 @@ pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size_t bytes,
 /* Any batch size (0 allowed), any order. Never allocates. */
 pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points,
                             size_t count);
-/* Volume from what has arrived so far; the session keeps streaming. */
+/* Volume from what has arrived so far; the session keeps streaming.
+ * PV_ERR_TOO_FEW_POINTS until warmup_points have arrived (the first plane
+ * is fitted then; an estimate never changes the final result). */
 pv_status_t pv_session_estimate(pv_session_t *s, pv_result_t *out);
 /* Final result. The session accepts no more points until reset. */
 pv_status_t pv_session_finish(pv_session_t *s, pv_result_t *out);

@@ -112,6 +112,27 @@ void estimate_while_streaming_then_finish(void **) {
   assert_true(std::fabs(layers[n / 2].area_mm2 - area) / area < 0.01);
 }
 
+// An estimate before the first plane (during warm-up) says so and leaves
+// the final result bit for bit as without it (it used to fix the plane from
+// the few points there were and drop the rest of the scan as out of range).
+void estimate_during_warmup_changes_nothing(void **) {
+  pv::synth::PitSpec spec;
+  spec.seed = 9;
+  const std::vector<pv_point_t> pts = scan_points(spec, 200000);
+  TestSession plain, probed;
+  pv_result_t a, b, e;
+  plain.push_all(pts, 4096);
+  assert_int_equal(pv_session_finish(plain.s, &a), PV_OK);
+  assert_int_equal(pv_session_estimate(probed.s, &e), PV_ERR_TOO_FEW_POINTS);
+  probed.push_all(std::vector<pv_point_t>(pts.begin(), pts.begin() + 5000), 4096);
+  assert_int_equal(pv_session_estimate(probed.s, &e), PV_ERR_TOO_FEW_POINTS);
+  assert_int_equal(int(e.points_in), 5000);
+  probed.push_all(std::vector<pv_point_t>(pts.begin() + 5000, pts.end()), 4096);
+  assert_int_equal(pv_session_finish(probed.s, &b), PV_OK);
+  assert_memory_equal(&a.volume_cm3, &b.volume_cm3, sizeof(double));
+  assert_int_equal(int(a.points_out_of_range), int(b.points_out_of_range));
+}
+
 void invalid_points_are_counted_and_skipped(void **) {
   pv::synth::PitSpec spec;
   std::vector<pv_point_t> pts = scan_points(spec, 200000);
@@ -191,6 +212,7 @@ int main() {
       cmocka_unit_test(shuffled_input_gives_the_same_volume),
       cmocka_unit_test(same_input_same_bits_and_reset_reuses_the_block),
       cmocka_unit_test(estimate_while_streaming_then_finish),
+      cmocka_unit_test(estimate_during_warmup_changes_nothing),
       cmocka_unit_test(invalid_points_are_counted_and_skipped),
       cmocka_unit_test(a_scan_that_cannot_be_measured_says_why),
       cmocka_unit_test(bad_arguments_and_blocks_are_refused),
