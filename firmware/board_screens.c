@@ -316,7 +316,7 @@ void pv_board_draw(pv_canvas_t *c, const pv_board_model_t *m, const pv_board_fon
       line(c, &f->body, y, PV_COLOR_GREY, "version " PV_VERSION_STRING ", starting");
       break;
     case PV_BOARD_NO_SCANNER:
-      title(c, f, "NO SCANNER", PV_COLOR_GREY, PV_COLOR_WHITE, usb_word(m));
+      title(c, f, "NO SCANNER", PV_COLOR_AMBER, PV_COLOR_BLACK, usb_word(m));
       pv_canvas_text(c, &f->big, 1, MARGIN, y, PV_COLOR_BLACK, "plug it in");
       y += 44;
       if (m->armed) {
@@ -350,7 +350,7 @@ void pv_board_draw(pv_canvas_t *c, const pv_board_model_t *m, const pv_board_fon
       grouped(m->points, pts, sizeof pts);
       y = line(c, &f->body, y, PV_COLOR_BLACK, "%s points kept", pts);
       y = line(c, &f->body, y + 4, PV_COLOR_BLACK, "plug in: scan resumes");
-      line(c, &f->body, y + 4, PV_COLOR_BLACK, "STOP: measure what arrived");
+      line(c, &f->body, y + 4, PV_COLOR_BLACK, "or STOP: measure them");
       legend(c, f, "STOP: end scan and measure");
       break;
     case PV_BOARD_MEASURING:
