@@ -71,6 +71,11 @@ static void present(pv_board_app_t *app) {
     fprintf(stderr, "pitvol-board: display: %s\n", err);
   }
   app->presents++;
+  /* After the screen is out: a watcher waiting for this line can read it. */
+  if (app->presents == 1 || app->model.state != app->last_shown) {
+    app->last_shown = app->model.state;
+    printf("pitvol-board: screen %s\n", pv_board_state_name(app->model.state));
+  }
 }
 
 static void log_result(const pv_board_app_t *app) {
@@ -235,7 +240,6 @@ int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *e
   app->usb_state = pv_usb_scanner_poll(app->usb, 0);
   pv_board_app_post(app, app->usb_state == PV_USB_STATE_UNPLUGGED ? PV_EV_SCANNER_GONE
                                                                   : PV_EV_SCANNER_ARRIVED);
-  app->last_logged = PV_BOARD_BOOT;
   return 0;
 }
 

@@ -72,7 +72,7 @@ struct pv_board_app {
   int dirty;
   int measure_pending;
   int quit;
-  pv_board_state_t last_logged;
+  pv_board_state_t last_shown; /* state of the last screen presented */
   pv_board_observer_fn observer;
   void *observer_user;
   unsigned long presents;

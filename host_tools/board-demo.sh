@@ -67,19 +67,16 @@ s=$out/screens
   sleep 0.05
 done) &
 wait_for "$out/board.log" "state paused"
-wait_for "$out/board.log" "state result"
-sleep 0.5
+wait_for "$out/board.log" "screen result"
 press enter
-wait_for "$out/board.log" "state idle"
-sleep 0.3
+wait_for "$out/board.log" "screen idle"
 finish
 
 # 2. A refusal, in its own directory (its screens.log would replace the first).
 run "$out/refused.log" "$out/small.frames" --fps "$fps" --display "png:$out/refused"
 wait_for "$out/refused.log" "state idle"
 press start
-wait_for "$out/refused.log" "state refused"
-sleep 0.3
+wait_for "$out/refused.log" "screen refused"
 finish
 cp "$out/refused/refused.png" "$out/refused/refused.txt" "$out/screens/"
 rm -f "$out/screens/live1.png" "$out/screens/live1.txt"

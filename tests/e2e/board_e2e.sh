@@ -35,10 +35,11 @@ stop_board() {
   pid=
   return $rc
 }
-# wait_log REGEX [SECONDS]: until the board's log has a matching line.
+# wait_log REGEX [SECONDS [N]]: until the board's log has N (default 1)
+# matching lines. The board logs "screen X" once screen X is on display.
 wait_log() {
-  local deadline=$((SECONDS + ${2:-60}))
-  until grep -Eq -- "$1" "$work/board.log" 2>/dev/null; do
+  local deadline=$((SECONDS + ${2:-60})) n=${3:-1}
+  until [ "$(grep -Ec -- "$1" "$work/board.log" 2>/dev/null)" -ge "$n" ]; do
     [ $SECONDS -lt $deadline ] || fail "timed out waiting for '$1'"
     kill -0 "$pid" 2>/dev/null || fail "board exited while waiting for '$1'"
     sleep 0.1
@@ -91,10 +92,10 @@ small=$fixtures/small
 case $case_name in
 full_scan)
   start_board "$cyl.frames" --fps 20
-  wait_log "state idle" 30
+  wait_log "screen idle" 30
   has "$screens/idle.txt" "press START"
   press start
-  wait_log "state result" 90
+  wait_log "screen result" 90
   check_result_equals_reference "$cyl.ply"
   # Live estimates while scanning: coverage bars and a running volume.
   n=$(grep -c "^coverage 0" "$screens/screens.log")
@@ -104,8 +105,7 @@ full_scan)
   has "$screens/measuring.txt" "please wait"
   pass "$n live screens with coverage"
   press enter
-  wait_log "state idle" 10
-  sleep 0.3
+  wait_log "screen idle" 10 2
   has "$screens/idle.txt" "last: $(printf '%.1f' "$(result_field volume_cm3)") cm³"
   stop_board || fail "board did not exit cleanly on SIGTERM"
   check_allocations
@@ -115,11 +115,10 @@ unplug_replug)
   start_board "$cyl.frames" --fps 20 --unplug-at-frame 30 --replug-after 500
   wait_log "state idle" 30
   press start
-  wait_log "state paused" 60
-  sleep 0.2
+  wait_log "screen paused" 60
   has "$screens/paused.txt" "scanner unplugged"
   has "$screens/paused.txt" "points kept"
-  wait_log "state result" 90
+  wait_log "screen result" 90
   grep -q "event scanner_arrived" <(grep -A100 "state paused" "$work/board.log") || fail "no replug seen"
   check_result_equals_reference "$cyl.ply"
   [ "$(result_field board_warnings)" = 0x0 ] || fail "a resumed scan must carry no unplug warning"
@@ -133,7 +132,7 @@ unplug_end)
   press start
   wait_log "state paused" 60
   press stop
-  wait_log "state (result|refused)" 60
+  wait_log "screen (result|refused)" 60
   [ "$(result_field board_warnings)" = 0x1 ] || fail "result lacks the ended-while-unplugged warning"
   if grep -q "state result" "$work/board.log"; then
     has "$screens/result.txt" "ended while unplugged"
@@ -147,13 +146,13 @@ unplug_end)
   ;;
 no_scanner_at_start)
   start_board "$cyl.frames" --fps 20 --absent-for 2000
-  wait_log "state no_scanner" 30
+  wait_log "screen no_scanner" 30
   has "$screens/no_scanner.txt" "plug it in"
   press start # armed: the scan starts when the scanner arrives
   wait_log "state scanning" 30
   grep -q "scan starts when plugged" "$screens/screens.log" || fail "armed screen not shown"
   grep -q "event scanner_arrived" "$work/board.log" || fail "arrival not seen"
-  wait_log "state result" 90
+  wait_log "screen result" 90
   check_result_equals_reference "$cyl.ply"
   stop_board || fail "board did not exit cleanly"
   png_ok no_scanner scanning result
@@ -162,7 +161,7 @@ refused)
   start_board "$small.frames" --fps 20
   wait_log "state idle" 30
   press start
-  wait_log "state refused" 60
+  wait_log "screen refused" 60
   read -r ref_st _ <<<"$(reference "$small.ply")"
   [ "$ref_st" != PV_OK ] || fail "fixture unexpectedly measurable"
   has "$screens/refused.txt" "refused status=$ref_st"
