@@ -50,9 +50,9 @@ press() { echo "$1" >"$pipe"; }
 has() { grep -qF -- "$2" "$1" || fail "$(basename "$1") lacks '$2'"; }
 
 # The reference: pitvol measure on the PLY of the same scan.
-reference() { # ply -> "STATUS VOLUME"
+reference() { # ply [pitvol measure options] -> "STATUS VOLUME"
   local json
-  json=$("$bin/pitvol" measure "$1" --json 2>/dev/null)
+  json=$("$bin/pitvol" measure "$@" --json 2>/dev/null)
   local st vol
   st=$(sed -n 's/.*"status": "\([A-Z_]*\)".*/\1/p' <<<"$json")
   vol=$(sed -n 's/.*"volume_cm3": \([^,]*\),.*/\1/p' <<<"$json")
@@ -158,11 +158,14 @@ no_scanner_at_start)
   png_ok no_scanner scanning result
   ;;
 refused)
-  start_board "$small.frames" --fps 20
+  # The paper's method, named on both sides: which status refuses this
+  # sparse scan is the method's business, that board and CLI agree is ours.
+  echo "method = paper" >"$work/paper.conf"
+  start_board "$small.frames" --fps 20 --set core.method=paper
   wait_log "state idle" 30
   press start
   wait_log "screen refused" 60
-  read -r ref_st _ <<<"$(reference "$small.ply")"
+  read -r ref_st _ <<<"$(reference "$small.ply" --config "$work/paper.conf")"
   [ "$ref_st" != PV_OK ] || fail "fixture unexpectedly measurable"
   has "$screens/refused.txt" "refused status=$ref_st"
   has "$screens/refused.txt" "no volume"
