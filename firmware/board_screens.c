@@ -252,7 +252,7 @@ static void draw_result(pv_canvas_t *c, const pv_board_model_t *m, const pv_boar
     char iv[32];
     const char *u2 = "";
     volume_text(r->interval_cm3, units, iv, sizeof iv, &u2);
-    snprintf(buf, sizeof buf, "%s " PLUSMINUS " %s", unit, iv);
+    snprintf(buf, sizeof buf, PLUSMINUS " %s %s", iv, unit);
   } else {
     snprintf(buf, sizeof buf, "%s", unit);
   }

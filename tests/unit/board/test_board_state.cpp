@@ -3,6 +3,9 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <vector>
+
+#include "pitvol/board_fonts.h"
 
 extern "C" {
 #include "board_config.h"
@@ -171,6 +174,75 @@ void coverage_hint_names_the_widest_unseen_band(void **) {
   assert_string_equal(l1, "wall 55-90 mm not seen");
 }
 
+// Draws a model's screen and returns the text it laid out.
+std::string screen_text(const pv_board_model_t &m, pv_board_units_t units = PV_UNITS_CM3) {
+  static pv_board_fonts_t fonts;
+  static bool parsed = false;
+  if (!parsed) {
+    assert_int_equal(pv_font_parse_psf2(&fonts.body, pv_font_10x20, pv_font_10x20_bytes, nullptr), 0);
+    assert_int_equal(pv_font_parse_psf2(&fonts.big, pv_font_16x32, pv_font_16x32_bytes, nullptr), 0);
+    parsed = true;
+  }
+  std::vector<uint8_t> mem(pv_canvas_bytes(320, 240, 4096));
+  pv_canvas_t c;
+  assert_int_equal(pv_canvas_init(&c, 320, 240, 4096, mem.data(), mem.size()), 0);
+  pv_board_draw(&c, &m, &fonts, units);
+  assert_false(c.text_truncated);
+  return c.text;
+}
+
+bool has(const std::string &text, const char *what) {
+  if (text.find(what) != std::string::npos) return true;
+  std::fprintf(stderr, "screen lacks '%s':\n%s", what, text.c_str());
+  return false;
+}
+
+void screens_say_what_matters(void **) {
+  pv_board_model_t m = booted(true);
+  m.state = PV_BOARD_RESULT;
+  m.result_status = PV_OK;
+  m.result.volume_cm3 = 11712.84;
+  m.result.interval_cm3 = 12.34;
+  m.result.depth_mm = 297.37;
+  m.result.warnings = PV_WARN_BRIDGED | PV_WARN_POINTS_THINNED;
+  std::string t = screen_text(m);
+  assert_true(has(t, "|11712.8\n"));
+  assert_true(has(t, "|\xC2\xB1 12.3 cm\xC2\xB3\n"));
+  assert_true(has(t, "|! unseen wall bridged\n"));
+  assert_true(has(t, "|dense layers thinned\n"));
+  assert_true(has(t, "result volume_cm3=11712.84 "));
+  t = screen_text(m, PV_UNITS_LITRE);
+  assert_true(has(t, "|11.713\n"));
+
+  m.state = PV_BOARD_REFUSED;
+  m.result_status = PV_ERR_WALL_GAP;
+  m.result.gap_from_mm = 55;
+  m.result.gap_to_mm = 90;
+  t = screen_text(m);
+  assert_true(has(t, "|wall 55-90 mm not seen\n"));
+  assert_true(has(t, "refused status=PV_ERR_WALL_GAP"));
+  assert_true(t.find("11712") == std::string::npos);  // a refusal shows no number
+
+  m.state = PV_BOARD_SCANNING;
+  m.points = 123456;
+  m.live_valid = 1;
+  m.live_status = PV_OK;
+  m.live.volume_cm3 = 9000;
+  m.live.depth_mm = 160;
+  m.live.coverage_bands = PV_COVERAGE_BANDS;
+  for (float &c : m.live.coverage) c = 1.0f;
+  m.live.coverage[2] = 0.1f;
+  t = screen_text(m);
+  assert_true(has(t, "|~9000.0 cm\xC2\xB3\n"));
+  assert_true(has(t, "|points 123 456\n"));
+  assert_true(has(t, "|wall 20-30 mm not seen\n"));
+  assert_true(has(t, "coverage 1.00 1.00 0.10 1.00"));
+
+  m.state = PV_BOARD_PAUSED;
+  t = screen_text(m);
+  assert_true(has(t, "|123 456 points kept\n"));
+}
+
 }  // namespace
 
 int main() {
@@ -185,6 +257,7 @@ int main() {
       cmocka_unit_test(failed_start_returns_to_rest),
       cmocka_unit_test(config_file_parses_and_rejects),
       cmocka_unit_test(coverage_hint_names_the_widest_unseen_band),
+      cmocka_unit_test(screens_say_what_matters),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
