@@ -69,6 +69,7 @@ struct pv_board_app {
   pv_board_event_t queue[PV_BOARD_EVENT_QUEUE];
   size_t q_head, q_len;
   uint64_t scan_mark_ms;   /* when scan_ms was last advanced */
+  uint64_t next_estimate_ms; /* no live estimate before (duty <= 50 %) */
   int dirty;
   int measure_pending;
   int quit;

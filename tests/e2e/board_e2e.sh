@@ -95,7 +95,7 @@ small=$fixtures/small
 
 case $case_name in
 full_scan)
-  start_board "$cyl.frames" --fps 20
+  start_board "$cyl.frames" --fps 15  # ~5 s of scanning: several live estimates
   wait_log "screen idle" 30
   has "$screens/idle.txt" "press START"
   press start
