@@ -37,6 +37,9 @@ int pv_input_read_pipe(struct pv_input *in, pv_key_t *keys, size_t cap, char *er
         const pv_key_t k = in->line_too_long ? PV_KEY_NONE : word_key(in->line);
         if (k != PV_KEY_NONE && n < cap) {
           keys[n++] = k;
+        } else if (k != PV_KEY_NONE) {
+          fprintf(stderr, "pitvol input: more than %zu presses at once; '%s' dropped\n", cap,
+                  in->line);
         } else if (in->line_len > 0 || in->line_too_long) {
           fprintf(stderr, "pitvol input: ignored pipe line '%s' (start, stop, enter or back)\n",
                   in->line_too_long ? "(too long)" : in->line);
