@@ -101,13 +101,18 @@ full_scan)
   press start
   wait_log "screen result" 90
   check_result_equals_reference "$cyl.ply"
-  # Live estimates while scanning: coverage bars and a running volume.
-  n=$(grep -c "^coverage 0" "$screens/screens.log")
-  [ "$n" -ge 2 ] || fail "expected live coverage on at least 2 scanning screens, saw $n"
-  grep -q "^text .*|~[0-9]*\.[0-9] cm³" "$screens/screens.log" || fail "no running volume shown"
+  # Live estimates while scanning: each one is drawn with its coverage
+  # bars (how many fit in the ~5 s scan depends on the machine: not asserted).
+  n=$(grep -c "^coverage [01]" "$screens/screens.log")
+  e=$(grep -c "pitvol-board: estimate " "$work/board.log")
+  [ "$e" -ge 1 ] || fail "no live estimate while scanning"
+  [ "$n" -ge 1 ] || fail "$e estimates but no scanning screen with wall coverage"
+  if grep -q "pitvol-board: estimate PV_OK" "$work/board.log"; then
+    grep -q "^text .*|~[0-9]*\.[0-9] cm³" "$screens/screens.log" || fail "no running volume shown"
+  fi
   has "$screens/scanning.txt" "points "
   has "$screens/measuring.txt" "please wait"
-  pass "$n live screens with coverage"
+  pass "$e live estimates, $n scanning screens with coverage"
   press enter
   wait_log "screen idle" 10 2
   has "$screens/idle.txt" "last: $(printf '%.1f' "$(result_field volume_cm3)") cm³"
