@@ -106,7 +106,7 @@ int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value
     const char *name = key + 5;
     if (strcmp(name, "method") == 0) {
       if (pv_method_from_name(value, &c->core.method) != PV_OK) {
-        snprintf(err, errcap, "unknown core.method '%s' (paper, polar)", value);
+        snprintf(err, errcap, "unknown core.method '%s' (names as in pitvol measure: paper, polar, ...)", value);
         return -1;
       }
       return 0;

@@ -11,7 +11,7 @@
  *   units = cm3                  volume shown in cm3 or l
  *   estimate_period_ms = 500     live estimate while scanning
  *   core.<field> = value         any pv_config_t field by its name
- *                                (core.method = paper|polar, core.layer_mm ...)
+ *                                (core.method = paper, core.layer_mm ...)
  * Unknown keys and bad values are errors that name the line.
  */
 #ifndef PV_BOARD_CONFIG_H
