@@ -7,7 +7,7 @@
 # reference volume comes from `pitvol measure` on the same scan's PLY.
 #
 #   board_e2e.sh CASE BIN_DIR FIXTURE_DIR WORK_DIR
-# CASE: full_scan | unplug_replug | unplug_end | no_scanner_at_start | refused
+# CASE: full_scan | stop_mid_scan | unplug_replug | unplug_end | no_scanner_at_start | refused
 set -uo pipefail
 case_name=$1 bin=$2 fixtures=$3 work=$4/$1
 
@@ -151,6 +151,23 @@ unplug_end)
     has "$screens/refused.txt" "scan ended while unplugged"
   fi
   pass "partial scan measured with the warning ($(result_field volume_cm3) cm3)"
+  stop_board || fail "board did not exit cleanly"
+  ;;
+stop_mid_scan)
+  # The technician presses STOP: the board tells the scanner, which ends
+  # the scan with END_OF_SCAN; what arrived is measured, no warning.
+  start_board "$cyl.frames" --fps 10
+  wait_log "state idle" 30
+  press start
+  wait_log "pitvol-board: estimate PV_OK" 90
+  press stop
+  wait_log "screen (result|refused)" 60
+  grep -q "event scan_ended" "$work/board.log" || fail "the scanner did not end the scan"
+  pts=$(result_field points_in)
+  total=$(sed -n 's/.*"points": \([0-9]*\),.*/\1/p' "$cyl.json")
+  [ "$pts" -gt 0 ] && [ "$pts" -lt "$total" ] || fail "points_in $pts: not a part of the $total-point scan"
+  [ "$(result_field board_warnings)" = 0x0 ] || fail "a stopped scan carries no unplug warning"
+  pass "stopped after $pts points: $(result_field status) $(result_field volume_cm3)"
   stop_board || fail "board did not exit cleanly"
   ;;
 no_scanner_at_start)
