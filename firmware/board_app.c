@@ -146,6 +146,7 @@ static void drain_events(pv_board_app_t *app) {
     if (app->model.state != before) {
       printf("pitvol-board: state %s\n", pv_board_state_name(app->model.state));
       notify(app, PV_NEWS_STATE);
+      if (ev == PV_EV_MEASURED) notify(app, PV_NEWS_RESULT);
     }
   }
 }
@@ -267,6 +268,7 @@ int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap) {
       app->dirty = 0;
       present(app);
     }
+    if (app->quit) break; /* an observer or watch asked */
     if (app->measure_pending) { /* the MEASURING screen is up: now finish() */
       measure(app);
       continue;
