@@ -47,6 +47,7 @@ struct pv_usb_scanner {
   int has_hotplug;
   libusb_hotplug_callback_handle hotplug;
   int arrived;        /* hotplug: a matching device arrived */
+  int left;           /* hotplug: our device left (noticed with nothing in flight) */
   uint64_t last_scan_ms;
   uint64_t scans_ended_seen;
   pv_usb_points_fn on_points;
@@ -196,9 +197,13 @@ static void LIBUSB_CALL transfer_done(struct libusb_transfer *t) {
 static int LIBUSB_CALL hotplug_cb(libusb_context *ctx, libusb_device *dev,
                                   libusb_hotplug_event event, void *user) {
   (void)ctx;
-  (void)dev;
   pv_usb_scanner_t *s = (pv_usb_scanner_t *)user;
   if (event == LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED) s->arrived = 1;
+  /* Without transfers in flight (IDLE, ENDED) nothing else would notice. */
+  if (event == LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT && s->handle != NULL &&
+      libusb_get_device(s->handle) == dev) {
+    s->left = 1;
+  }
   return 0; /* stay registered */
 }
 
@@ -397,7 +402,10 @@ pv_usb_status_t pv_usb_scanner_open_ids(pv_usb_scanner_t **out, uint16_t vendor_
   }
   if (libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG)) {
     s->has_hotplug = libusb_hotplug_register_callback(
-                         s->ctx, LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED, LIBUSB_HOTPLUG_NO_FLAGS,
+                         s->ctx,
+                         (libusb_hotplug_event)(LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED |
+                                                LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT),
+                         LIBUSB_HOTPLUG_NO_FLAGS,
                          (int)vendor_id, (int)product_id, LIBUSB_HOTPLUG_MATCH_ANY,
                          hotplug_cb, s, &s->hotplug) == LIBUSB_SUCCESS;
   }
@@ -421,6 +429,10 @@ pv_usb_state_t pv_usb_scanner_poll(pv_usb_scanner_t *s, int timeout_ms) {
   const pv_usb_state_t before = s->state;
   const uint64_t deadline = now_ms() + (uint64_t)(timeout_ms > 0 ? timeout_ms : 0);
   for (;;) {
+    if (s->left) {
+      s->left = 0;
+      device_gone(s);
+    }
     reap_old_handle(s);
     try_replug(s);
     if (s->state != before) break;
@@ -434,6 +446,10 @@ pv_usb_state_t pv_usb_scanner_poll(pv_usb_scanner_t *s, int timeout_ms) {
     if (s->state == PV_USB_STATE_UNPLUGGED && slice > 20) slice = 20;
     handle_events(s, slice);
     if (s->state != before) break;
+  }
+  if (s->left) { /* a hotplug LEFT seen in the last handle_events() */
+    s->left = 0;
+    device_gone(s);
   }
   reap_old_handle(s);
   return s->state;

@@ -11,11 +11,14 @@
  *     --replug-after MS    ... plug back after MS (default 300)
  *     --no-replug          ... and leave it unplugged
  *     --absent-for MS    no scanner at start; plugged in after MS
+ *     --unplug-after MS  unplug MS after start, whatever the board is doing
+ *                        (plugged back after --replug-after)
  * Runs itself under umockdev-wrapper. At exit it prints the allocations
  * counted after start, per zone (board_alloc_zone.h).
  */
 #include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,11 +36,25 @@ static void report_allocations(void) {
          pv_alloc_count(PV_ZONE_MEASURE));
 }
 
+typedef struct timed_unplug {
+  pv_emu_t *emu;
+  double after_ms;
+} timed_unplug_t;
+
+static void *unplug_later(void *p) {
+  timed_unplug_t *t = (timed_unplug_t *)p;
+  struct timespec ts = {(time_t)(t->after_ms / 1000), (long)(fmod(t->after_ms, 1000) * 1e6)};
+  nanosleep(&ts, NULL);
+  pv_emu_unplug(t->emu);
+  return NULL;
+}
+
 static int usage(const char *why) {
   if (why != NULL) fprintf(stderr, "pitvol-board-emu: %s\n", why);
   fprintf(stderr,
           "usage: pitvol-board-emu FILE.frames [--fps F] [--unplug-at-frame N]\n"
-          "         [--replug-after MS | --no-replug] [--absent-for MS] [pitvol-board options]\n");
+          "         [--replug-after MS | --no-replug] [--absent-for MS] [--unplug-after MS]\n"
+          "         [pitvol-board options]\n");
   return 2;
 }
 
@@ -63,7 +80,7 @@ int main(int argc, char **argv) {
   pv_board_block_signals(); /* before the emulator's threads exist */
 
   const char *frames = NULL;
-  double fps = 20, absent_ms = -1, v = 0;
+  double fps = 20, absent_ms = -1, unplug_after_ms = -1, v = 0;
   pv_emu_options_t eo;
   pv_emu_options_default(&eo);
   eo.replug_after_ms = 300;
@@ -82,6 +99,8 @@ int main(int argc, char **argv) {
       eo.replug_after_ms = (int)v, ++i;
     } else if (strcmp(a, "--no-replug") == 0) {
       eo.replug_after_ms = -1;
+    } else if (strcmp(a, "--unplug-after") == 0 && more && number(argv[i + 1], &v)) {
+      unplug_after_ms = v, ++i;
     } else if (strcmp(a, "--absent-for") == 0 && more && number(argv[i + 1], &v)) {
       absent_ms = v, ++i;
     } else if (a[0] != '-' && frames == NULL) {
@@ -126,7 +145,11 @@ int main(int argc, char **argv) {
   }
   printf("pitvol-board-emu: scanner emulated from %s (%llu frames, %.0f fps)%s\n", frames,
          (unsigned long long)ps.frames_out, fps, absent_ms >= 0 ? ", absent at start" : "");
+  timed_unplug_t tu = {emu, unplug_after_ms};
+  pthread_t unplugger;
+  const int timed = unplug_after_ms >= 0 && pthread_create(&unplugger, NULL, unplug_later, &tu) == 0;
   const int rc = pv_board_cli_main(board_argc, board_argv, report_allocations);
+  if (timed) pthread_join(unplugger, NULL);
   pv_emu_destroy(emu);
   free(board_argv);
   return rc;

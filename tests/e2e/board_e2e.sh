@@ -7,7 +7,7 @@
 # reference volume comes from `pitvol measure` on the same scan's PLY.
 #
 #   board_e2e.sh CASE BIN_DIR FIXTURE_DIR WORK_DIR
-# CASE: full_scan | stop_mid_scan | unplug_replug | unplug_end | no_scanner_at_start | refused
+# CASE: full_scan | stop_mid_scan | unplug_idle | unplug_replug | unplug_end | no_scanner_at_start | refused
 set -uo pipefail
 case_name=$1 bin=$2 fixtures=$3 work=$4/$1
 
@@ -168,6 +168,18 @@ stop_mid_scan)
   [ "$pts" -gt 0 ] && [ "$pts" -lt "$total" ] || fail "points_in $pts: not a part of the $total-point scan"
   [ "$(result_field board_warnings)" = 0x0 ] || fail "a stopped scan carries no unplug warning"
   pass "stopped after $pts points: $(result_field status) $(result_field volume_cm3)"
+  stop_board || fail "board did not exit cleanly"
+  ;;
+unplug_idle)
+  # Unplugged while READY (no transfer in flight): the driver hears the
+  # hotplug "left" event, the board says so, and is ready again on replug.
+  start_board "$cyl.frames" --unplug-after 1500 --replug-after 1500
+  wait_log "screen idle" 30
+  wait_log "screen no_scanner" 30
+  has "$screens/no_scanner.txt" "no USB"
+  wait_log "screen idle" 30 2
+  has "$screens/idle.txt" "USB ok"
+  pass "unplug and replug seen while ready"
   stop_board || fail "board did not exit cleanly"
   ;;
 no_scanner_at_start)
