@@ -38,7 +38,7 @@ static int usage(const char *why) {
   return 2;
 }
 
-int pv_board_cli_main(int argc, char **argv, void (*after_run)(void)) {
+int pv_board_cli_main(int argc, char **argv, const pv_board_cli_hooks_t *hooks) {
   setvbuf(stdout, g_stdout_buf, _IOLBF, sizeof g_stdout_buf);
   pv_board_config_t cfg;
   pv_board_config_default(&cfg);
@@ -79,8 +79,13 @@ int pv_board_cli_main(int argc, char **argv, void (*after_run)(void)) {
     pv_board_app_close(&g_app);
     return 3;
   }
+  if (hooks != NULL && hooks->after_init != NULL && hooks->after_init(&g_app, err, sizeof err) != 0) {
+    fprintf(stderr, "pitvol-board: %s\n", err);
+    pv_board_app_close(&g_app);
+    return 3;
+  }
   const int rc = pv_board_app_run(&g_app, err, sizeof err);
-  if (after_run != NULL) after_run();
+  if (hooks != NULL && hooks->after_run != NULL) hooks->after_run(&g_app);
   pv_board_app_close(&g_app);
   if (rc != 0) fprintf(stderr, "pitvol-board: %s\n", err);
   fflush(stdout);

@@ -3,5 +3,7 @@
 
 int main(int argc, char **argv) {
   pv_board_block_signals();
-  return pv_board_cli_main(argc, argv, 0);
+  /* The serial link (issue 10) goes in here: hooks.after_init. */
+  const pv_board_cli_hooks_t hooks = {0, 0};
+  return pv_board_cli_main(argc, argv, &hooks);
 }

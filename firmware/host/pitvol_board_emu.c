@@ -30,7 +30,8 @@
 #include "alloc_counter.h"
 #include "usb_emulator/emulated_scanner.h"
 
-static void report_allocations(void) {
+static void report_allocations(pv_board_app_t *app) {
+  (void)app;
   printf("pitvol-board: allocations after start: board=%ld push=%ld usb=%ld measure=%ld\n",
          pv_alloc_count(PV_ZONE_BOARD), pv_alloc_count(PV_ZONE_PUSH), pv_alloc_count(PV_ZONE_USB),
          pv_alloc_count(PV_ZONE_MEASURE));
@@ -148,7 +149,8 @@ int main(int argc, char **argv) {
   timed_unplug_t tu = {emu, unplug_after_ms};
   pthread_t unplugger;
   const int timed = unplug_after_ms >= 0 && pthread_create(&unplugger, NULL, unplug_later, &tu) == 0;
-  const int rc = pv_board_cli_main(board_argc, board_argv, report_allocations);
+  const pv_board_cli_hooks_t hooks = {NULL, report_allocations};
+  const int rc = pv_board_cli_main(board_argc, board_argv, &hooks);
   if (timed) pthread_join(unplugger, NULL);
   pv_emu_destroy(emu);
   free(board_argv);
