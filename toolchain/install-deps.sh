@@ -14,6 +14,7 @@ packages=(
   umockdev libumockdev-dev  # emulated USB scanner for the usb tests
   libpng-dev            # the board display's PNG backend (drivers/display)
   console-setup-linux   # Terminus console fonts embedded in pitvol-board
+  nanopb libnanopb-dev      # serial link messages (firmware/link/pitvol_link.proto)
   "$@"
 )
 

@@ -79,7 +79,7 @@ void establish_transform(pv_session *s) {
 
 size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   Carver cv(block);
-  const uint32_t layers = c.max_layers;
+  const uint32_t layers = grid_layers(c);
   const uint32_t work = layer_work_capacity(c);
   const uint32_t k = c.level_sample_points;
   pv_session tmp{};
@@ -165,7 +165,7 @@ extern "C" pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size
   auto *s = new (base) pv_session{};  // placement: no allocation
   s->cfg = *cfg;
   s->grid.layer_mm = cfg->layer_mm;
-  s->grid.layers = cfg->max_layers;
+  s->grid.layers = session::grid_layers(*cfg);
   s->grid.below = gridding::layers_below(
       cfg->layer_mm,
       cfg->method == PV_METHOD_SURFACE ? gridding::kSurfaceBelowMm : gridding::kBelowMm);

@@ -44,11 +44,21 @@ class Carver {
 // final layer can draw on two provisional bins when the plane moved).
 inline uint32_t layer_work_capacity(const pv_config_t &c) { return 2 * c.points_per_layer; }
 
+// Layers of the grid: max_layers of depth range (the paper's grid keeps
+// its few millimetres below the bottom plane inside them); method surface
+// keeps 40 mm below the plane (bowls, uneven floors) on top of them, so its
+// depth range is not shorter.
+inline uint32_t grid_layers(const pv_config_t &c) {
+  if (c.method != PV_METHOD_SURFACE) return c.max_layers;
+  return c.max_layers + gridding::layers_below(c.layer_mm, gridding::kSurfaceBelowMm) -
+         gridding::layers_below(c.layer_mm);
+}
+
 // The surface model's grids (method surface only): the whole depth range,
 // and pits up to this radius around their axis.
 constexpr double kSurfaceMaxRadiusMm = 320.0;
 inline surface::Capacity surface_capacity(const pv_config_t &c) {
-  return surface::capacity_for(surface::Params{}, double(c.max_layers) * c.layer_mm,
+  return surface::capacity_for(surface::Params{}, double(grid_layers(c)) * c.layer_mm,
                                kSurfaceMaxRadiusMm);
 }
 
@@ -125,6 +135,10 @@ levelling::Status fit_sample(pv_session *s, levelling::Transform *t,
 void establish_transform(pv_session *s);
 // estimate() and finish() share this; it reads the bins, writes scratch.
 pv_status_t measure(pv_session *s, pv_result_t *out);
+// Method surface: re-levels t on the ground ring when the scan has one, else
+// on the rim plane (the wall's top edge). Returns the rim height when the
+// rim plane set it, else a negative value (the rim stage decides).
+double level_for_surface(pv_session *s, levelling::Transform *t);
 // The surface method's part of measure(): from the levelled stored points,
 // the rim and the bottom of the grid to the result (measure_surface.cpp).
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,

@@ -47,7 +47,9 @@ struct Params {
   double integrate_dr_mm = 1.0;    // r step of the volume integration
   double rim_guard_mm = 1.5;       // wall grid stops this far below the rim
   uint32_t min_floor_points = 3;   // surface points that make a floor cell seen
-  double floor_seed_mm = 3.0;      // floor flood starts within this of the lowest cells
+  double floor_seed_mm = 1.5;      // floor flood starts within this of the lowest cells
+  double floor_bump_mm = 1.0;      // a floor cell this far above its neighbours is multipath
+  double floor_wall_margin_mm = 3.0;  // floor cells this close to the wall are its foot
   double floor_max_rise_mm = 1.5;  // a larger step from cell to cell is not floor
   uint32_t short_gap_bins = 4;     // a bridge this short is interpolation, not unseen wall
 };

@@ -24,6 +24,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "pitvol/crc32c.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -56,9 +58,7 @@ typedef enum pv_usb_parse {
   PV_USB_PARSE_BAD_FLAGS = 5    /* unknown flag bits set */
 } pv_usb_parse_t;
 
-/* CRC-32C (Castagnoli, reflected, init and xorout 0xFFFFFFFF).
- * crc32c("123456789") == 0xE3069283. Chain: pass the previous result. */
-uint32_t pv_crc32c(uint32_t crc, const void *data, size_t len);
+/* pv_crc32c() (pitvol/crc32c.h) checks every frame. */
 
 /* Writes one frame into out (cap bytes). Returns the bytes written, or 0 if
  * cap < PV_USB_FRAME_BYTES(h->point_count) or the count is too large.

@@ -1,0 +1,110 @@
+#include "rim/rim_plane.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+
+namespace pv::rim {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr float kNone = -1.0e30f;
+constexpr uint32_t kMinSectors = 24;
+constexpr double kOnPlaneMm = 2.0;
+constexpr double kMaxRmsMm = 1.5;
+constexpr double kMaxTiltDeg = 10.0;
+
+}  // namespace
+
+void SectorTops::clear(double centre_x, double centre_y) {
+  cx = centre_x;
+  cy = centre_y;
+  for (uint32_t s = 0; s < kRimSectors; ++s) {
+    for (int k = 0; k < kRimTops; ++k) z[s][k] = x[s][k] = y[s][k] = kNone;
+  }
+}
+
+void SectorTops::offer(double px, double py, double pz) {
+  double a = std::atan2(py - cy, px - cx);
+  if (a < 0) a += 2 * kPi;
+  auto s = uint32_t(a * (kRimSectors / (2 * kPi)));
+  if (s >= kRimSectors) s = kRimSectors - 1;
+  const auto v = float(pz);
+  int k = kRimTops;
+  while (k > 0 && v > z[s][k - 1]) --k;
+  if (k == kRimTops) return;
+  for (int q = kRimTops - 1; q > k; --q) {
+    z[s][q] = z[s][q - 1];
+    x[s][q] = x[s][q - 1];
+    y[s][q] = y[s][q - 1];
+  }
+  z[s][k] = v;
+  x[s][k] = float(px);
+  y[s][k] = float(py);
+}
+
+namespace {
+
+// The sector's top: the highest point with two more within 3 mm below it.
+int sector_top(const SectorTops &t, uint32_t s) {
+  for (int k = 0; k + 2 < kRimTops; ++k) {
+    if (t.z[s][k + 2] <= kNone) return -1;
+    if (t.z[s][k] - t.z[s][k + 2] <= 3.0f) return k;
+  }
+  return -1;
+}
+
+}  // namespace
+
+RimPlane fit_rim_plane(const SectorTops &t) {
+  RimPlane rp;
+  bool use[kRimSectors];
+  int top[kRimSectors];
+  for (uint32_t s = 0; s < kRimSectors; ++s) {
+    top[s] = sector_top(t, s);
+    use[s] = top[s] >= 0;
+  }
+  double a = 0, b = 0, c = 0;  // z = a + b x + c y
+  for (int round = 0; round < 3; ++round) {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    uint32_t n = 0;
+    for (uint32_t s = 0; s < kRimSectors; ++s) {
+      if (!use[s]) continue;
+      const int k = top[s];
+      const Eigen::Vector3d q(1.0, double(t.x[s][k]), double(t.y[s][k]));
+      A += q * q.transpose();
+      r += q * double(t.z[s][k]);
+      ++n;
+    }
+    if (n < kMinSectors) return rp;
+    const Eigen::Vector3d sol = A.ldlt().solve(r);
+    a = sol(0);
+    b = sol(1);
+    c = sol(2);
+    double ss = 0;
+    uint32_t kept = 0;
+    for (uint32_t s = 0; s < kRimSectors; ++s) {
+      const int k = top[s];
+      if (k < 0) continue;
+      const double e = double(t.z[s][k]) - (a + b * t.x[s][k] + c * t.y[s][k]);
+      use[s] = std::fabs(e) <= kOnPlaneMm;
+      if (use[s]) {
+        ss += e * e;
+        ++kept;
+      }
+    }
+    rp.sectors = kept;
+    rp.rms_mm = kept ? std::sqrt(ss / kept) : 0;
+  }
+  if (rp.sectors < kMinSectors || rp.rms_mm > kMaxRmsMm) return rp;
+  Eigen::Vector3d nrm(-b, -c, 1.0);
+  nrm.normalize();
+  if (nrm.z() < std::cos(kMaxTiltDeg * kPi / 180.0)) return rp;
+  rp.found = true;
+  rp.normal = nrm;
+  rp.d = nrm.z() * a;  // the plane passes through (0, 0, a)
+  return rp;
+}
+
+}  // namespace pv::rim

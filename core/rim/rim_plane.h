@@ -1,0 +1,43 @@
+// The rim as a plane, for scans without a ground ring (method surface).
+//
+// Levelling on the floor plane (the paper's rule) leaves the scan tilted
+// where the floor is not flat: a bowl's lowest part, an uneven hand-dug
+// floor. Without ground around the pit, the top edge of the wall is what
+// defines the lid. Per angular sector around the pit's centre, the top of
+// the wall is the highest point with two more within 3 mm below it (far
+// strays float alone above the rim); a plane through the sector tops, with
+// outliers dropped, is the rim.
+#ifndef PV_RIM_RIM_PLANE_H
+#define PV_RIM_RIM_PLANE_H
+
+#include <Eigen/Core>
+#include <cstdint>
+
+namespace pv::rim {
+
+constexpr uint32_t kRimSectors = 36;
+constexpr int kRimTops = 8;
+
+struct SectorTops {
+  double cx = 0, cy = 0;             // centre of the sectors
+  float z[kRimSectors][kRimTops];    // highest first
+  float x[kRimSectors][kRimTops], y[kRimSectors][kRimTops];
+  void clear(double centre_x, double centre_y);
+  void offer(double px, double py, double pz);
+};
+
+struct RimPlane {
+  bool found = false;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // upward
+  double d = 0;                       // plane: normal . p = d
+  uint32_t sectors = 0;               // sectors on the plane
+  double rms_mm = 0;
+};
+
+// A plane through the sector tops: found with at least 24 sectors on it
+// (residual under 2 mm), an RMS under 1.5 mm and within 10 deg of level.
+RimPlane fit_rim_plane(const SectorTops &tops);
+
+}  // namespace pv::rim
+
+#endif

@@ -1,0 +1,212 @@
+// pitvol-monitor output (see report.h). JSON numbers use %.17g like
+// pitvol --json; CSV the shortest decimal that reads back the same. Either
+// way a value read back is the value the board sent.
+#include "report.h"
+
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+
+#include "pitvol/pitvol.h"
+#include "pitvol/json_writer.h"
+
+namespace pv::monitor {
+
+namespace {
+
+using pv::tools::JsonObject;
+
+std::string fmt(const char *f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+// The shortest decimal that reads back as the same double (11.8, not
+// 11.800000000000001).
+std::string g17(double v) {
+  char b[40];
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(b, sizeof b, "%.*g", digits, v);
+    if (std::strtod(b, nullptr) == v) break;
+  }
+  return b;
+}
+
+std::string utc(uint64_t t) {
+  const std::time_t tt = std::time_t(t);
+  std::tm tm{};
+  gmtime_r(&tt, &tm);
+  char b[32];
+  std::strftime(b, sizeof b, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return b;
+}
+
+std::string status_name(int32_t code) {
+  return pv_status_name(pv_status_t(code));
+}
+
+void density_json(JsonObject &o, const pitvol_Result &r) {
+  const pitvol_Density &d = r.density;
+  o.integer("density_flags", d.flags);
+  if (d.flags & pitvol_DensityFlag_DENSITY_WET) {
+    o.num("mass_g", d.mass_g).num("wet_kg_m3", d.wet_kg_m3).num("wet_low_kg_m3", d.wet_low_kg_m3);
+    if (d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED) o.null("wet_high_kg_m3");
+    else o.num("wet_high_kg_m3", d.wet_high_kg_m3);
+  }
+  if (d.flags & pitvol_DensityFlag_DENSITY_DRY) {
+    o.num("moisture_percent", d.moisture_percent).num("dry_kg_m3", d.dry_kg_m3)
+        .num("dry_low_kg_m3", d.dry_low_kg_m3);
+    if (d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED) o.null("dry_high_kg_m3");
+    else o.num("dry_high_kg_m3", d.dry_high_kg_m3);
+  }
+  if (d.flags & pitvol_DensityFlag_DENSITY_COMPACTION) {
+    o.num("reference_max_dry_kg_m3", d.reference_max_dry_kg_m3)
+        .num("compaction_percent", d.compaction_percent)
+        .num("compaction_low_percent", d.compaction_low_percent);
+    if (d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED) o.null("compaction_high_percent");
+    else o.num("compaction_high_percent", d.compaction_high_percent);
+  }
+}
+
+}  // namespace
+
+const char *state_name(pitvol_DeviceState s) {
+  switch (s) {
+    case pitvol_DeviceState_STATE_IDLE: return "idle";
+    case pitvol_DeviceState_STATE_SCANNING: return "scanning";
+    case pitvol_DeviceState_STATE_COMPUTING: return "computing";
+    case pitvol_DeviceState_STATE_RESULT: return "result";
+    case pitvol_DeviceState_STATE_ERROR: return "error";
+    default: return "unknown";
+  }
+}
+
+std::string hello_text(const pitvol_Hello &h) {
+  char b[256];
+  std::snprintf(b, sizeof b, "hello    pitvol %s, device %s, protocol %u, results %u..%u",
+                h.firmware_version, h.device_id, h.protocol_version, h.first_result_id,
+                h.last_result_id);
+  return b;
+}
+
+std::string hello_json(const pitvol_Hello &h) {
+  JsonObject o;
+  o.str("type", "hello").integer("protocol_version", h.protocol_version)
+      .str("firmware_version", h.firmware_version).str("device_id", h.device_id)
+      .integer("capabilities", h.capabilities).integer("max_frame_bytes", h.max_frame_bytes)
+      .integer("first_result_id", h.first_result_id).integer("last_result_id", h.last_result_id);
+  return o.text();
+}
+
+std::string status_text(const pitvol_Status &s) {
+  std::string t = std::string("status   ") + state_name(s.state) + ", " +
+                  std::to_string(s.points) + " points";
+  if (s.running_volume_cm3 > 0)
+    t += ", volume " + fmt("%.1f", s.running_volume_cm3) + " +/- " + fmt("%.1f", s.running_interval_cm3) + " cm3";
+  if (s.mass_set) t += ", mass " + fmt("%.1f", s.mass_g) + " g";
+  if (s.moisture_set) t += ", moisture " + fmt("%.2f", s.moisture_percent) + " %";
+  t += ", last result #" + std::to_string(s.last_result_id);
+  return t;
+}
+
+std::string status_json(const pitvol_Status &s) {
+  JsonObject o;
+  o.str("type", "status").str("state", state_name(s.state)).integer("points", s.points)
+      .num("running_volume_cm3", s.running_volume_cm3)
+      .num("running_interval_cm3", s.running_interval_cm3);
+  std::string cov = "[";
+  for (pb_size_t i = 0; i < s.coverage_count; ++i) cov += (i ? "," : "") + fmt("%.3f", double(s.coverage[i]));
+  o.raw("coverage", cov + "]").integer("last_result_id", s.last_result_id);
+  if (s.mass_set) o.num("mass_g", s.mass_g); else o.null("mass_g");
+  if (s.moisture_set) o.num("moisture_percent", s.moisture_percent); else o.null("moisture_percent");
+  o.integer("frames_corrupt", s.frames_corrupt);
+  return o.text();
+}
+
+std::string result_text(const pitvol_Result &r) {
+  std::string t = "result   #" + std::to_string(r.id) + " " + utc(r.time_unix_s) + " ";
+  if (r.status != 0) return t + "no measurement: " + status_name(r.status);
+  t += r.method;
+  t += ", volume " + fmt("%.1f", r.volume_cm3) + " +/- " + fmt("%.1f", r.interval_cm3) +
+       " cm3, depth " + fmt("%.1f", r.depth_mm) + " mm";
+  char w[32];
+  std::snprintf(w, sizeof w, ", warnings 0x%02x", r.warnings);
+  t += w;
+  const pitvol_Density &d = r.density;
+  const bool open = d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED;
+  auto range = [&](double v, double lo, double hi, const char *unit) {
+    return fmt("%.0f", v) + " " + unit + " (" + fmt("%.0f", lo) + " .. " +
+           (open ? std::string("?") : fmt("%.0f", hi)) + ")";
+  };
+  if (d.flags & pitvol_DensityFlag_DENSITY_WET)
+    t += "\n         wet density " + range(d.wet_kg_m3, d.wet_low_kg_m3, d.wet_high_kg_m3, "kg/m3") +
+         " from " + fmt("%.1f", d.mass_g) + " g";
+  if (d.flags & pitvol_DensityFlag_DENSITY_DRY)
+    t += "\n         dry density " + range(d.dry_kg_m3, d.dry_low_kg_m3, d.dry_high_kg_m3, "kg/m3") +
+         " at " + fmt("%.2f", d.moisture_percent) + " % moisture";
+  if (d.flags & pitvol_DensityFlag_DENSITY_COMPACTION)
+    t += "\n         compaction " + fmt("%.1f", d.compaction_percent) + " % (" +
+         fmt("%.1f", d.compaction_low_percent) + " .. " +
+         (open ? std::string("?") : fmt("%.1f", d.compaction_high_percent)) + ") of " +
+         fmt("%.0f", d.reference_max_dry_kg_m3) + " kg/m3";
+  return t;
+}
+
+std::string result_json(const pitvol_Result &r) {
+  JsonObject o;
+  o.str("type", "result").integer("id", r.id).integer("time_unix_s", r.time_unix_s)
+      .str("time_utc", utc(r.time_unix_s)).str("status", status_name(r.status))
+      .str("method", r.method);
+  if (r.status == 0) {
+    o.num("volume_cm3", r.volume_cm3).num("interval_cm3", r.interval_cm3).num("depth_mm", r.depth_mm);
+  } else {
+    o.null("volume_cm3").null("interval_cm3").null("depth_mm");
+  }
+  o.integer("warnings", r.warnings).num("unseen_share", r.unseen_share)
+      .integer("points_in", r.points_in).integer("points_used", r.points_used);
+  density_json(o, r);
+  return o.text();
+}
+
+std::string error_text(const pitvol_Error &e) {
+  return std::string("error    ") + e.name + ": " + e.message;
+}
+
+std::string error_json(const pitvol_Error &e) {
+  JsonObject o;
+  o.str("type", "error").num("code", double(e.code)).str("name", e.name).str("message", e.message);
+  return o.text();
+}
+
+std::string result_csv_header() {
+  return "id,time_unix_s,status,method,volume_cm3,interval_cm3,depth_mm,warnings,unseen_share,"
+         "points_in,points_used,density_flags,mass_g,moisture_percent,wet_kg_m3,wet_low_kg_m3,"
+         "wet_high_kg_m3,dry_kg_m3,dry_low_kg_m3,dry_high_kg_m3,reference_max_dry_kg_m3,"
+         "compaction_percent,compaction_low_percent,compaction_high_percent";
+}
+
+std::string result_csv_row(const pitvol_Result &r) {
+  const pitvol_Density &d = r.density;
+  const bool ok = r.status == 0;
+  const bool wet = d.flags & pitvol_DensityFlag_DENSITY_WET;
+  const bool dry = d.flags & pitvol_DensityFlag_DENSITY_DRY;
+  const bool rc = d.flags & pitvol_DensityFlag_DENSITY_COMPACTION;
+  const bool open = d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED;
+  auto num = [](bool valid, double v) { return valid ? g17(v) : std::string(); };
+  std::string row = std::to_string(r.id) + "," + std::to_string(r.time_unix_s) + "," +
+                    status_name(r.status) + "," + r.method + "," + num(ok, r.volume_cm3) + "," +
+                    num(ok, r.interval_cm3) + "," + num(ok, r.depth_mm) + "," +
+                    std::to_string(r.warnings) + "," + g17(r.unseen_share) + "," +
+                    std::to_string(r.points_in) + "," + std::to_string(r.points_used) + "," +
+                    std::to_string(d.flags) + ",";
+  row += num(wet, d.mass_g) + "," + num(dry, d.moisture_percent) + "," + num(wet, d.wet_kg_m3) + "," +
+         num(wet, d.wet_low_kg_m3) + "," + num(wet && !open, d.wet_high_kg_m3) + "," +
+         num(dry, d.dry_kg_m3) + "," + num(dry, d.dry_low_kg_m3) + "," + num(dry && !open, d.dry_high_kg_m3) +
+         "," + num(rc, d.reference_max_dry_kg_m3) + "," + num(rc, d.compaction_percent) + "," +
+         num(rc, d.compaction_low_percent) + "," + num(rc && !open, d.compaction_high_percent);
+  return row;
+}
+
+}  // namespace pv::monitor

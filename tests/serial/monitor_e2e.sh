@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# pitvol-monitor end to end over a pseudo-terminal, against pv-test-device
+# (the real link, serial driver, result log, density and core with the
+# board's state machine replaced). Label serial.
+# usage: monitor_e2e.sh DEVICE MONITOR SYNTH PITVOL
+set -euo pipefail
+device=$1 monitor=$2 synth=$3 pitvol=$4
+work=$(mktemp -d "${TMPDIR:-/tmp}/pv-monitor-e2e.XXXXXX")
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  rm -rf "$work"
+}
+trap cleanup EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# start_device NAME ARGS...: runs a device, waits for its port link.
+start_device() {
+  local name=$1; shift
+  "$device" --log "$work/$name-log" --port-link "$work/$name-port" --seconds 120 "$@" \
+    >"$work/$name.out" 2>"$work/$name.err" &
+  pids+=($!)
+  for _ in $(seq 100); do [ -e "$work/$name-port" ] && return 0; sleep 0.05; done
+  fail "device $name did not start: $(cat "$work/$name.err")"
+}
+mon() { "$monitor" "$@"; }
+
+# 1. A clean line: hello, fetch, settings, a scan, refusals.
+start_device clean --preload 20
+port=$work/clean-port
+mon "$port" hello | grep -q "results 1..20" || fail "hello"
+mon "$port" fetch >"$work/fetch.csv" 2>/dev/null
+[ "$(wc -l <"$work/fetch.csv")" -eq 21 ] || fail "fetch: want header + 20 rows"
+[ "$(cut -d, -f1 "$work/fetch.csv" | tail -n +2 | tr '\n' ' ')" = "$(seq -s ' ' 1 20) " ] || fail "fetch ids"
+# Result 7: volume 1500 + 1.25 * 6 cm3 (the device's synthetic results).
+grep -q '^7,1790000420,PV_OK,polar,1507.5,30,150,' "$work/fetch.csv" || fail "fetch row 7"
+
+# Live: commands typed into watch; it sees the scan's result as it happens.
+printf 'set-mass 3000\nset-moisture 12.5\nstart\nstop\n' |
+  mon "$port" watch --json --count 1 --seconds 20 >"$work/watch.json" || fail "watch exited with $?"
+[ "$(grep -c '"type": "ack"' "$work/watch.json")" -eq 4 ] || fail "watch: want 4 acks ($(cat "$work/watch.json"))"
+grep -q '"type": "result", "id": 21' "$work/watch.json" || fail "watch did not see result 21"
+# Density of result 21: 3000 g over 1525 cm3 (+/- 30), w 12.5 %, reference 1850 kg/m3.
+mon "$port" fetch --from 21 --json >"$work/r21.json" 2>/dev/null
+# near FIELD VALUE: the JSON number within 1e-9 (relative) of VALUE.
+near() {
+  local v
+  v=$(sed -n "s/.*\"$1\": \([^,}]*\).*/\1/p" "$work/r21.json")
+  awk -v a="$v" -v b="$2" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(a != "" && d <= 1e-9 * b) }' \
+    || fail "result 21: $1 = $v, want $2"
+}
+near volume_cm3 1525
+near wet_kg_m3 1967.2131147541      # 3000 g / 1525 cm3 = 120000/61 g/cm3... x 1000
+near wet_low_kg_m3 1929.2604501608  # 3000 / 1555
+near wet_high_kg_m3 2006.6889632107 # 3000 / 1495
+near dry_kg_m3 1748.6338797814      # wet / 1.125
+near compaction_percent 94.520750258455  # dry / 1850
+# Refusals: exit status 1 and a reason.
+set +e
+mon "$port" set-mass -5 2>"$work/nack.err"; rc=$?
+set -e
+[ $rc -eq 1 ] || fail "negative mass: exit $rc, want 1"
+grep -q "more than 0 g" "$work/nack.err" || fail "negative mass: no reason"
+set +e
+mon "$port" stop 2>/dev/null; rc=$?
+set -e
+[ $rc -eq 1 ] || fail "stop while idle: exit $rc, want 1"
+
+# 2. Line noise, 1 % of bytes both ways: every result still arrives.
+start_device noisy --preload 30 --noise 1 --seed 7
+mon "$work/noisy-port" fetch --retry-ms 200 --tries 50 >"$work/noisy.csv" 2>"$work/noisy.err" \
+  || fail "noisy fetch: $(cat "$work/noisy.err")"
+[ "$(cut -d, -f1 "$work/noisy.csv" | tail -n +2 | tr '\n' ' ')" = "$(seq -s ' ' 1 30) " ] \
+  || fail "noisy fetch ids: $(cut -d, -f1 "$work/noisy.csv" | tr '\n' ' ')"
+cmp <(cut -d, -f1-11 "$work/noisy.csv" | head -21) <(cut -d, -f1-11 "$work/fetch.csv") \
+  || fail "noisy rows differ from clean ones"
+corrupt=$(sed -n 's/.*results; \([0-9]*\) corrupt frames.*/\1/p' "$work/noisy.err")
+[ "${corrupt:-0}" -gt 0 ] || fail "noise did not hit any frame"
+echo "noisy fetch: 30 results, $corrupt corrupt frames counted by the monitor"
+# Commands through the noise: repeated until answered, done once each (a
+# repeated StopScan must not be refused, nor make a second result).
+for c in "set-mass 2500" start stop; do
+  mon "$work/noisy-port" $c --retry-ms 200 --tries 50 >/dev/null 2>"$work/noisy-cmd.err" \
+    || fail "noisy $c: $(cat "$work/noisy-cmd.err")"
+done
+# The board answers StopScan first and logs the result just after: ask
+# until result 31 is there (at most 50 times).
+for _ in $(seq 50); do
+  mon "$work/noisy-port" fetch --from 25 --retry-ms 200 --tries 50 >"$work/noisy2.csv" 2>/dev/null \
+    || fail "noisy fetch after the scan"
+  grep -q '^31,' "$work/noisy2.csv" && break
+  sleep 0.1
+done
+[ "$(cut -d, -f1 "$work/noisy2.csv" | tail -n +2 | tr '\n' ' ')" = "$(seq -s ' ' 25 31) " ] \
+  || fail "noisy scan: want results 25..31 ($(cut -d, -f1 "$work/noisy2.csv" | tr '\n' ' '))"
+grep -q '^31,.*,2500,' "$work/noisy2.csv" || fail "noisy scan: result 31 lacks the mass"
+
+# A record the board cannot give (damaged storage): the rest arrives, the
+# gap is named, the exit status says it is incomplete.
+start_device damaged --preload 8 --lose-id 5
+set +e
+mon "$work/damaged-port" fetch >"$work/damaged.csv" 2>"$work/damaged.err"; rc=$?
+set -e
+[ $rc -eq 1 ] || fail "damaged log: exit $rc, want 1"
+[ "$(cut -d, -f1 "$work/damaged.csv" | tail -n +2 | tr '\n' ' ')" = "1 2 3 4 6 7 8 " ] || fail "damaged log rows"
+grep -q "ids 5 .. 5" "$work/damaged.err" || fail "damaged log: gap not named ($(cat "$work/damaged.err"))"
+
+# 3. A real scan: the board's result equals pitvol measure on the same file.
+"$synth" "$work/pit.ply" --points 60000 --seed 3 >/dev/null
+want=$("$pitvol" measure "$work/pit.ply" --json | sed -n 's/.*"volume_cm3": \([^,}]*\).*/\1/p')
+[ -n "$want" ] || fail "pitvol measure gave no volume"
+start_device scan --scan "$work/pit.ply"
+printf 'start\nstop\n' | mon "$work/scan-port" watch --json --count 1 --seconds 100 >"$work/scan.json" \
+  || fail "scan watch"
+got=$(sed -n 's/.*"type": "result".*"volume_cm3": \([^,}]*\).*/\1/p' "$work/scan.json")
+[ "$got" = "$want" ] || fail "monitor volume $got != pitvol measure $want"
+echo "scan: monitor and pitvol measure agree: $got cm3"
+
+# 4. A scan that cannot be measured: the result says why and an Error follows.
+"$synth" "$work/tiny.ply" --points 20 --seed 3 >/dev/null
+start_device bad --scan "$work/tiny.ply"
+printf 'start\nstop\n' | mon "$work/bad-port" watch --json --seconds 2 >"$work/bad.json" || fail "bad watch"
+grep -q '"type": "result", "id": 1, .*"status": "PV_ERR_[A-Z_]*", .*"volume_cm3": null' "$work/bad.json" \
+  || fail "failed scan: no result with an error status ($(cat "$work/bad.json"))"
+grep -q '"type": "error", "code": [1-9][0-9]*, "name": "PV_ERR_' "$work/bad.json" || fail "failed scan: no Error"
+echo "PASS"
