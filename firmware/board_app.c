@@ -56,6 +56,16 @@ int pv_board_app_watch(pv_board_app_t *app, int fd, short events, pv_board_watch
   return 0;
 }
 
+int pv_board_app_watch_events(pv_board_app_t *app, int fd, short events) {
+  for (size_t w = 0; w < app->nwatches; ++w) {
+    if (app->watches[w].fd == fd) {
+      app->watches[w].events = events;
+      return 0;
+    }
+  }
+  return -1;
+}
+
 void pv_board_app_set_observer(pv_board_app_t *app, pv_board_observer_fn fn, void *user) {
   app->observer = fn;
   app->observer_user = user;

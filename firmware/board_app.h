@@ -89,6 +89,9 @@ void pv_board_app_close(pv_board_app_t *app);
 
 /* Extra descriptors (the serial link). 0, or -1 if all slots are taken. */
 int pv_board_app_watch(pv_board_app_t *app, int fd, short events, pv_board_watch_fn fn, void *user);
+/* Changes what a watched fd waits for (e.g. POLLIN | POLLOUT while the
+ * link has bytes to send). 0, or -1 if fd is not watched. */
+int pv_board_app_watch_events(pv_board_app_t *app, int fd, short events);
 /* Queues an event (from a watch callback). 0, or -1 if the queue is full. */
 int pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev);
 void pv_board_app_set_observer(pv_board_app_t *app, pv_board_observer_fn fn, void *user);

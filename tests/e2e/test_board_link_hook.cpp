@@ -80,7 +80,9 @@ void link_drives_a_whole_scan(void **) {
   assert_int_equal(pipe2(fds, O_NONBLOCK | O_CLOEXEC), 0);
   link.rd = fds[0];
   link.wr = fds[1];
-  assert_int_equal(pv_board_app_watch(&g_app, link.rd, POLLIN, on_link, nullptr), 0);
+  assert_int_equal(pv_board_app_watch(&g_app, link.rd, 0, on_link, nullptr), 0);
+  assert_int_equal(pv_board_app_watch_events(&g_app, link.rd, POLLIN), 0);  // as a link would
+  assert_int_equal(pv_board_app_watch_events(&g_app, 12345, POLLIN), -1);
   pv_board_app_set_observer(&g_app, on_news, &link);
 
   assert_int_equal(pv_board_app_run(&g_app, err, sizeof err), 0);
