@@ -12,6 +12,8 @@ packages=(
   libembree-dev      # ray casting in the scanner simulator (host only)
   libusb-1.0-0-dev   # the scanner's USB driver (drivers/usb)
   umockdev libumockdev-dev  # emulated USB scanner for the usb tests
+  libpng-dev            # the board display's PNG backend (drivers/display)
+  console-setup-linux   # Terminus console fonts embedded in pitvol-board
   nanopb libnanopb-dev      # serial link messages (firmware/link/pitvol_link.proto)
   "$@"
 )

@@ -47,11 +47,15 @@ struct pv_usb_scanner {
   int has_hotplug;
   libusb_hotplug_callback_handle hotplug;
   int arrived;        /* hotplug: a matching device arrived */
+  int left;           /* hotplug: our device left (noticed with nothing in flight) */
   uint64_t last_scan_ms;
   uint64_t scans_ended_seen;
   pv_usb_points_fn on_points;
   void *user;
   pv_usb_scanner_stats_t stats;
+  uint16_t vendor_id, product_id;
+  struct pollfd pollfds[PV_USB_MAX_POLLFDS]; /* libusb's, via its notifiers */
+  size_t npollfds;
   pv_usb_stream_t stream; /* large: last */
 };
 
@@ -193,9 +197,13 @@ static void LIBUSB_CALL transfer_done(struct libusb_transfer *t) {
 static int LIBUSB_CALL hotplug_cb(libusb_context *ctx, libusb_device *dev,
                                   libusb_hotplug_event event, void *user) {
   (void)ctx;
-  (void)dev;
   pv_usb_scanner_t *s = (pv_usb_scanner_t *)user;
   if (event == LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED) s->arrived = 1;
+  /* Without transfers in flight (IDLE, ENDED) nothing else would notice. */
+  if (event == LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT && s->handle != NULL &&
+      libusb_get_device(s->handle) == dev) {
+    s->left = 1;
+  }
   return 0; /* stay registered */
 }
 
@@ -209,7 +217,7 @@ static pv_usb_status_t open_device(pv_usb_scanner_t *s) {
   for (ssize_t i = 0; i < n; ++i) {
     struct libusb_device_descriptor d;
     if (libusb_get_device_descriptor(list[i], &d) != LIBUSB_SUCCESS) continue;
-    if (d.idVendor != PV_USB_VENDOR_ID || d.idProduct != PV_USB_PRODUCT_ID) continue;
+    if (d.idVendor != s->vendor_id || d.idProduct != s->product_id) continue;
     r = libusb_open(list[i], &h);
     if (r == LIBUSB_SUCCESS) break;
   }
@@ -287,16 +295,90 @@ static void handle_events(pv_usb_scanner_t *s, int ms) {
   (void)libusb_handle_events_timeout_completed(s->ctx, &tv, NULL);
 }
 
+/* ---- descriptors for a caller's poll() --------------------------------- */
+
+static void LIBUSB_CALL pollfd_added(int fd, short events, void *user) {
+  pv_usb_scanner_t *s = (pv_usb_scanner_t *)user;
+  for (size_t i = 0; i < s->npollfds; ++i) {
+    if (s->pollfds[i].fd == fd) {
+      s->pollfds[i].events = events;
+      return;
+    }
+  }
+  if (s->npollfds < PV_USB_MAX_POLLFDS) {
+    s->pollfds[s->npollfds].fd = fd;
+    s->pollfds[s->npollfds].events = events;
+    s->pollfds[s->npollfds].revents = 0;
+    s->npollfds++;
+  }
+}
+
+static void LIBUSB_CALL pollfd_removed(int fd, void *user) {
+  pv_usb_scanner_t *s = (pv_usb_scanner_t *)user;
+  for (size_t i = 0; i < s->npollfds; ++i) {
+    if (s->pollfds[i].fd == fd) {
+      s->pollfds[i] = s->pollfds[--s->npollfds];
+      return;
+    }
+  }
+}
+
+/* The descriptors libusb has now (once, at open), then the notifiers. */
+static void track_pollfds(pv_usb_scanner_t *s) {
+  const struct libusb_pollfd **list = libusb_get_pollfds(s->ctx);
+  if (list != NULL) {
+    for (size_t i = 0; list[i] != NULL; ++i) pollfd_added(list[i]->fd, list[i]->events, s);
+    libusb_free_pollfds(list);
+  }
+  libusb_set_pollfd_notifiers(s->ctx, pollfd_added, pollfd_removed, s);
+}
+
+size_t pv_usb_scanner_pollfds(pv_usb_scanner_t *s, struct pollfd *fds, size_t cap,
+                              int *timeout_ms) {
+  if (timeout_ms != NULL) *timeout_ms = -1;
+  if (s == NULL) return 0;
+  size_t n = 0;
+  for (size_t i = 0; i < s->npollfds && n < cap; ++i) {
+    /* A device descriptor (usbfs: POLLOUT = URB to reap) with no transfer
+     * in flight has nothing to say; leaving it out keeps an idle caller
+     * asleep where the node always polls ready (umockdev). */
+    if ((s->pollfds[i].events & POLLOUT) && s->inflight == 0) continue;
+    fds[n] = s->pollfds[i];
+    fds[n].revents = 0;
+    ++n;
+  }
+  if (timeout_ms != NULL) {
+    struct timeval tv;
+    if (libusb_get_next_timeout(s->ctx, &tv) == 1) {
+      *timeout_ms = (int)(tv.tv_sec * 1000 + (tv.tv_usec + 999) / 1000);
+    }
+    if (s->state == PV_USB_STATE_UNPLUGGED) {
+      const int period = (int)(s->has_hotplug ? PV_USB_HOTPLUG_RESCAN_MS : PV_USB_RESCAN_MS);
+      if (*timeout_ms < 0 || *timeout_ms > period) *timeout_ms = period;
+    }
+  }
+  return n;
+}
+
 /* ---- public API ------------------------------------------------------ */
 
 pv_usb_status_t pv_usb_scanner_open(pv_usb_scanner_t **out, pv_usb_points_fn on_points,
                                     void *user) {
+  return pv_usb_scanner_open_ids(out, (uint16_t)PV_USB_VENDOR_ID, (uint16_t)PV_USB_PRODUCT_ID, 0,
+                                 on_points, user);
+}
+
+pv_usb_status_t pv_usb_scanner_open_ids(pv_usb_scanner_t **out, uint16_t vendor_id,
+                                        uint16_t product_id, int wait_if_absent,
+                                        pv_usb_points_fn on_points, void *user) {
   if (out == NULL) return PV_USB_ERR_STATE;
   *out = NULL;
   pv_usb_scanner_t *s = (pv_usb_scanner_t *)calloc(1, sizeof *s);
   if (s == NULL) return PV_USB_ERR_INIT;
   s->on_points = on_points;
   s->user = user;
+  s->vendor_id = vendor_id;
+  s->product_id = product_id;
   pv_usb_stream_init(&s->stream, PV_USB_MAX_ABS_MM, on_points, user);
   if (libusb_init(&s->ctx) != LIBUSB_SUCCESS) {
     free(s);
@@ -313,17 +395,24 @@ pv_usb_status_t pv_usb_scanner_open(pv_usb_scanner_t **out, pv_usb_points_fn on_
     return PV_USB_ERR_INIT;
   }
   const pv_usb_status_t st = open_device(s);
-  if (st != PV_USB_OK) {
+  const int absent = st == PV_USB_ERR_NOT_FOUND && wait_if_absent;
+  if (st != PV_USB_OK && !absent) {
     pv_usb_scanner_close(s);
     return st;
   }
   if (libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG)) {
     s->has_hotplug = libusb_hotplug_register_callback(
-                         s->ctx, LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED, LIBUSB_HOTPLUG_NO_FLAGS,
-                         (int)PV_USB_VENDOR_ID, (int)PV_USB_PRODUCT_ID, LIBUSB_HOTPLUG_MATCH_ANY,
+                         s->ctx,
+                         (libusb_hotplug_event)(LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED |
+                                                LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT),
+                         LIBUSB_HOTPLUG_NO_FLAGS,
+                         (int)vendor_id, (int)product_id, LIBUSB_HOTPLUG_MATCH_ANY,
                          hotplug_cb, s, &s->hotplug) == LIBUSB_SUCCESS;
   }
-  s->state = PV_USB_STATE_IDLE;
+  track_pollfds(s);
+  /* Absent: exactly the state after an unplug with nothing to resume. */
+  s->state = absent ? PV_USB_STATE_UNPLUGGED : PV_USB_STATE_IDLE;
+  s->last_scan_ms = now_ms();
   *out = s;
   return PV_USB_OK;
 }
@@ -340,6 +429,10 @@ pv_usb_state_t pv_usb_scanner_poll(pv_usb_scanner_t *s, int timeout_ms) {
   const pv_usb_state_t before = s->state;
   const uint64_t deadline = now_ms() + (uint64_t)(timeout_ms > 0 ? timeout_ms : 0);
   for (;;) {
+    if (s->left) {
+      s->left = 0;
+      device_gone(s);
+    }
     reap_old_handle(s);
     try_replug(s);
     if (s->state != before) break;
@@ -353,6 +446,10 @@ pv_usb_state_t pv_usb_scanner_poll(pv_usb_scanner_t *s, int timeout_ms) {
     if (s->state == PV_USB_STATE_UNPLUGGED && slice > 20) slice = 20;
     handle_events(s, slice);
     if (s->state != before) break;
+  }
+  if (s->left) { /* a hotplug LEFT seen in the last handle_events() */
+    s->left = 0;
+    device_gone(s);
   }
   reap_old_handle(s);
   return s->state;

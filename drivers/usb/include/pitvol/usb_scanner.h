@@ -23,6 +23,7 @@
 #ifndef PITVOL_USB_SCANNER_H
 #define PITVOL_USB_SCANNER_H
 
+#include <poll.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -41,6 +42,7 @@ extern "C" {
 #define PV_USB_REQUEST_STOP 0x02u
 #define PV_USB_TRANSFERS 8u                 /* in flight */
 #define PV_USB_TRANSFER_BYTES (64u * 1024u) /* each */
+#define PV_USB_MAX_POLLFDS 16u              /* libusb descriptors tracked */
 
 typedef enum pv_usb_status {
   PV_USB_OK = 0,
@@ -75,6 +77,22 @@ typedef struct pv_usb_scanner pv_usb_scanner_t;
 /* on_points receives every accepted frame's good points. */
 pv_usb_status_t pv_usb_scanner_open(pv_usb_scanner_t **out, pv_usb_points_fn on_points,
                                     void *user);
+/* For the board application (firmware/): the scanner with these ids; if
+ * wait_if_absent and no such scanner is attached, open succeeds anyway in
+ * PV_USB_STATE_UNPLUGGED and poll() picks the scanner up when it arrives
+ * (state IDLE). pv_usb_scanner_open() is this with the ids above and
+ * wait_if_absent 0. */
+pv_usb_status_t pv_usb_scanner_open_ids(pv_usb_scanner_t **out, uint16_t vendor_id,
+                                        uint16_t product_id, int wait_if_absent,
+                                        pv_usb_points_fn on_points, void *user);
+/* For a caller's own poll() loop (the board's event loop): copies up to cap
+ * of the libusb descriptors to watch into fds and returns their count; sets
+ * *timeout_ms to the longest the caller may sleep before calling
+ * pv_usb_scanner_poll(s, 0) (-1: no limit; while unplugged, the period at
+ * which the driver looks for the scanner). Does not allocate: the set is
+ * kept up to date by libusb's pollfd notifiers. */
+size_t pv_usb_scanner_pollfds(pv_usb_scanner_t *s, struct pollfd *fds, size_t cap,
+                              int *timeout_ms);
 pv_usb_status_t pv_usb_scanner_start(pv_usb_scanner_t *s);
 /* Handles USB events for up to timeout_ms; returns the state after. */
 pv_usb_state_t pv_usb_scanner_poll(pv_usb_scanner_t *s, int timeout_ms);

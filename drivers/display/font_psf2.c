@@ -1,0 +1,123 @@
+/*
+ * PSF2 console font parser (the format of Debian's console-setup fonts,
+ * e.g. Lat15-TerminusBold32x16.psf). Glyph order in these fonts is not
+ * ASCII order: the Unicode table says which glyph shows which code point,
+ * so we read it into a Latin-1 map. Nothing is copied or allocated.
+ *
+ * Layout: 32-byte header (magic 72 b5 4a 86, version, header size, flags,
+ * glyph count, bytes per glyph, height, width; little endian), the glyph
+ * bitmaps (rows of ceil(width/8) bytes, MSB first), then if flags bit 0 is
+ * set one entry per glyph: UTF-8 code points, 0xFE before a combining
+ * sequence (skipped), 0xFF ending the entry.
+ */
+#include <string.h>
+
+#include "pitvol/canvas.h"
+
+#define PSF2_MAGIC 0x864ab572u
+#define PSF2_HAS_UNICODE_TABLE 0x01u
+
+static uint32_t le32(const uint8_t *p) {
+  return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/* Decodes one UTF-8 code point at p (< end); returns bytes used (0: bad). */
+static size_t utf8_decode(const uint8_t *p, const uint8_t *end, uint32_t *cp) {
+  const uint8_t b = p[0];
+  size_t n;
+  if (b < 0x80) {
+    *cp = b;
+    return 1;
+  }
+  if ((b & 0xE0) == 0xC0) {
+    n = 2;
+    *cp = b & 0x1Fu;
+  } else if ((b & 0xF0) == 0xE0) {
+    n = 3;
+    *cp = b & 0x0Fu;
+  } else if ((b & 0xF8) == 0xF0) {
+    n = 4;
+    *cp = b & 0x07u;
+  } else {
+    return 0;
+  }
+  if ((size_t)(end - p) < n) return 0;
+  for (size_t i = 1; i < n; ++i) {
+    if ((p[i] & 0xC0) != 0x80) return 0;
+    *cp = (*cp << 6) | (p[i] & 0x3Fu);
+  }
+  return n;
+}
+
+int pv_font_parse_psf2(pv_font_t *f, const uint8_t *data, size_t len, const char **why) {
+  const char *dummy;
+  if (why == NULL) why = &dummy;
+  if (f == NULL || data == NULL || len < 32) {
+    *why = "font shorter than a PSF2 header";
+    return -1;
+  }
+  if (le32(data) != PSF2_MAGIC) {
+    *why = "not a PSF2 font (bad magic; PSF1 and gzip are not read: gunzip it first)";
+    return -1;
+  }
+  const uint32_t header = le32(data + 8), flags = le32(data + 12), count = le32(data + 16),
+                 per_glyph = le32(data + 20), height = le32(data + 24), width = le32(data + 28);
+  const uint32_t row_bytes = (width + 7u) / 8u;
+  if (width == 0 || height == 0 || width > 64 || height > 128 || count == 0 || count > 65536 ||
+      per_glyph != row_bytes * height) {
+    *why = "PSF2 header has an implausible glyph size or count";
+    return -1;
+  }
+  if (header < 32 || header > len || (uint64_t)count * per_glyph > len - header) {
+    *why = "PSF2 font is truncated (glyphs run past the end)";
+    return -1;
+  }
+  memset(f, 0, sizeof *f);
+  f->glyphs = data + header;
+  f->glyph_count = count;
+  f->bytes_per_glyph = per_glyph;
+  f->width_px = width;
+  f->height_px = height;
+  f->row_bytes = row_bytes;
+  int mapped[256];
+  memset(mapped, 0, sizeof mapped);
+  if (flags & PSF2_HAS_UNICODE_TABLE) {
+    const uint8_t *p = data + header + (size_t)count * per_glyph;
+    const uint8_t *end = data + len;
+    for (uint32_t g = 0; g < count && p < end; ++g) {
+      int in_sequence = 0;
+      while (p < end && *p != 0xFF) {
+        if (*p == 0xFE) {
+          in_sequence = 1;
+          ++p;
+          continue;
+        }
+        uint32_t cp = 0;
+        const size_t n = utf8_decode(p, end, &cp);
+        if (n == 0) {
+          *why = "PSF2 Unicode table has invalid UTF-8";
+          return -1;
+        }
+        p += n;
+        if (!in_sequence && cp < 256 && !mapped[cp]) {
+          f->latin1[cp] = (uint16_t)g;
+          mapped[cp] = 1;
+        }
+      }
+      if (p < end) ++p; /* the 0xFF */
+    }
+  } else {
+    for (uint32_t cp = 0; cp < 256 && cp < count; ++cp) {
+      f->latin1[cp] = (uint16_t)cp;
+      mapped[cp] = 1;
+    }
+  }
+  if (!mapped['?'] || !mapped['0'] || !mapped['A']) {
+    *why = "PSF2 font lacks basic Latin glyphs";
+    return -1;
+  }
+  for (int cp = 0; cp < 256; ++cp) {
+    if (!mapped[cp]) f->latin1[cp] = f->latin1['?'];
+  }
+  return 0;
+}

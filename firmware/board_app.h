@@ -1,0 +1,102 @@
+/*
+ * The board application: everything sized and allocated once at start
+ * (core block, canvas, display and input backends, USB transfers), then one
+ * event loop on poll() over the libusb descriptors, the buttons, a timerfd
+ * (live estimate) and a signalfd (SIGTERM/SIGINT end the loop), plus any
+ * descriptor added with pv_board_app_watch().
+ *
+ * Hook for the serial link (issue 10, firmware/link/): open the port after
+ * pv_board_app_init, register its fd with pv_board_app_watch(); in the
+ * callback, decode commands and feed them in with pv_board_app_post()
+ * (PV_EV_START_STOP, ...); register pv_board_app_set_observer() to hear of
+ * every state change, live estimate and result to send out.
+ */
+#ifndef PV_BOARD_APP_H
+#define PV_BOARD_APP_H
+
+#include <poll.h>
+#include <stddef.h>
+
+#include "board_config.h"
+#include "board_screens.h"
+#include "board_state.h"
+#include "pitvol/display.h"
+#include "pitvol/input.h"
+#include "pitvol/usb_scanner.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PV_BOARD_MAX_WATCHES 4u
+#define PV_BOARD_EVENT_QUEUE 32u
+#define PV_BOARD_TEXT_LOG_BYTES 4096u
+
+typedef struct pv_board_app pv_board_app_t;
+
+/* Called from the loop when fd has revents. */
+typedef void (*pv_board_watch_fn)(pv_board_app_t *app, int fd, short revents, void *user);
+
+typedef enum pv_board_news {
+  PV_NEWS_STATE = 0,   /* model.state changed */
+  PV_NEWS_ESTIMATE = 1,/* model.live updated */
+  PV_NEWS_RESULT = 2   /* model.result is final (RESULT or REFUSED) */
+} pv_board_news_t;
+typedef void (*pv_board_observer_fn)(pv_board_app_t *app, pv_board_news_t what,
+                                     const pv_board_model_t *m, void *user);
+
+struct pv_board_app {
+  pv_board_config_t cfg;
+  pv_board_model_t model;
+  pv_board_fonts_t fonts;
+  void *block;
+  pv_session_t *session;
+  pv_usb_scanner_t *usb;
+  pv_usb_state_t usb_state;
+  pv_display_t *display;
+  pv_canvas_t canvas;
+  void *canvas_mem;
+  pv_input_t *input;
+  int timer_fd, signal_fd;
+  struct pollfd fds[PV_USB_MAX_POLLFDS + 3 + PV_BOARD_MAX_WATCHES];
+  struct {
+    int fd;
+    short events;
+    pv_board_watch_fn fn;
+    void *user;
+  } watches[PV_BOARD_MAX_WATCHES];
+  size_t nwatches;
+  pv_board_event_t queue[PV_BOARD_EVENT_QUEUE];
+  size_t q_head, q_len;
+  uint64_t scan_mark_ms;   /* when scan_ms was last advanced */
+  uint64_t next_estimate_ms; /* no live estimate before (duty <= 50 %) */
+  int dirty;
+  int measure_pending;
+  int quit;
+  pv_board_state_t last_shown; /* state of the last screen presented */
+  pv_board_observer_fn observer;
+  void *observer_user;
+  unsigned long presents;
+};
+
+/* Sets up everything from the configuration. 0, or -1 with a sentence in
+ * err (what failed, what to do). */
+int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *err, size_t errcap);
+/* Runs until SIGTERM/SIGINT or pv_board_app_quit. 0, or -1 with err. */
+int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap);
+void pv_board_app_quit(pv_board_app_t *app);
+void pv_board_app_close(pv_board_app_t *app);
+
+/* Extra descriptors (the serial link). 0, or -1 if all slots are taken. */
+int pv_board_app_watch(pv_board_app_t *app, int fd, short events, pv_board_watch_fn fn, void *user);
+/* Changes what a watched fd waits for (e.g. POLLIN | POLLOUT while the
+ * link has bytes to send). 0, or -1 if fd is not watched. */
+int pv_board_app_watch_events(pv_board_app_t *app, int fd, short events);
+/* Queues an event (from a watch callback). 0, or -1 if the queue is full. */
+int pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev);
+void pv_board_app_set_observer(pv_board_app_t *app, pv_board_observer_fn fn, void *user);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

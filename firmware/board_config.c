@@ -1,0 +1,193 @@
+/* The board's configuration file (board_config.h). */
+#include "board_config.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct core_field {
+  const char *name;
+  size_t offset;
+  int is_float;
+} core_field_t;
+
+#define U32(f) {#f, offsetof(pv_config_t, f), 0}
+#define F32(f) {#f, offsetof(pv_config_t, f), 1}
+/* Every tunable pv_config_t field, named as in docs/method.md. */
+static const core_field_t kCoreFields[] = {
+    U32(max_layers),        U32(points_per_layer),  U32(level_sample_points),
+    U32(warmup_points),     F32(layer_mm),          F32(bottom_band_ratio),
+    F32(plane_tol_ratio),   U32(ransac_iterations), F32(rim_band_ratio),
+    U32(knn_k),             F32(thin_base_mm),      F32(crescent_range_mm),
+    F32(crescent_cross_mm), F32(circle_band_mm),    F32(crescent_relax_mm),
+    U32(mad_window_early),  U32(mad_window_late),   F32(mad_k_early),
+    F32(mad_k_late),        F32(mad_split_mm),
+};
+
+void pv_board_config_default(pv_board_config_t *c) {
+  memset(c, 0, sizeof *c);
+  c->usb_vendor = 0x1209;
+  c->usb_product = 0x7050;
+  snprintf(c->display, sizeof c->display, "fbdev:/dev/fb0");
+  c->display_width = 320;
+  c->display_height = 240;
+  snprintf(c->input, sizeof c->input, "evdev:/dev/input/event0");
+  snprintf(c->serial, sizeof c->serial, "none");
+  c->units = PV_UNITS_CM3;
+  c->estimate_period_ms = 500;
+  pv_config_default(&c->core);
+}
+
+static int parse_ulong(const char *v, unsigned long max, unsigned long *out) {
+  char *end = NULL;
+  errno = 0;
+  if (!isdigit((unsigned char)v[0])) return -1;
+  const unsigned long x = strtoul(v, &end, 0);
+  if (errno != 0 || end == v || *end != '\0' || x > max) return -1;
+  *out = x;
+  return 0;
+}
+
+static int copy_str(char *dst, size_t cap, const char *v) {
+  const int n = snprintf(dst, cap, "%s", v);
+  return n >= 0 && (size_t)n < cap ? 0 : -1;
+}
+
+int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value, char *err,
+                        size_t errcap) {
+  unsigned long u = 0;
+  if (strcmp(key, "usb_vendor") == 0 || strcmp(key, "usb_product") == 0) {
+    if (parse_ulong(value, 0xFFFF, &u) != 0) {
+      snprintf(err, errcap, "%s must be a 16-bit number (e.g. 0x1209)", key);
+      return -1;
+    }
+    *(key[4] == 'v' ? &c->usb_vendor : &c->usb_product) = (uint16_t)u;
+    return 0;
+  }
+  if (strcmp(key, "display_width") == 0 || strcmp(key, "display_height") == 0) {
+    if (parse_ulong(value, 4096, &u) != 0) {
+      snprintf(err, errcap, "%s must be a number of pixels", key);
+      return -1;
+    }
+    *(key[8] == 'w' ? &c->display_width : &c->display_height) = (uint16_t)u;
+    return 0;
+  }
+  if (strcmp(key, "display") == 0 || strcmp(key, "input") == 0 || strcmp(key, "serial") == 0) {
+    char *dst = key[0] == 'd' ? c->display : key[0] == 'i' ? c->input : c->serial;
+    if (copy_str(dst, PV_BOARD_PATH_BYTES, value) != 0) {
+      snprintf(err, errcap, "%s is too long", key);
+      return -1;
+    }
+    return 0;
+  }
+  if (strcmp(key, "units") == 0) {
+    if (strcmp(value, "cm3") == 0) {
+      c->units = PV_UNITS_CM3;
+    } else if (strcmp(value, "l") == 0) {
+      c->units = PV_UNITS_LITRE;
+    } else {
+      snprintf(err, errcap, "units must be cm3 or l");
+      return -1;
+    }
+    return 0;
+  }
+  if (strcmp(key, "estimate_period_ms") == 0) {
+    if (parse_ulong(value, 60000, &u) != 0 || u < 100) {
+      snprintf(err, errcap, "estimate_period_ms must be 100 .. 60000");
+      return -1;
+    }
+    c->estimate_period_ms = (uint32_t)u;
+    return 0;
+  }
+  if (strncmp(key, "core.", 5) == 0) {
+    const char *name = key + 5;
+    if (strcmp(name, "method") == 0) {
+      if (pv_method_from_name(value, &c->core.method) != PV_OK) {
+        snprintf(err, errcap, "unknown core.method '%s' (names as in pitvol measure: paper, polar, ...)", value);
+        return -1;
+      }
+      return 0;
+    }
+    for (size_t i = 0; i < sizeof kCoreFields / sizeof kCoreFields[0]; ++i) {
+      if (strcmp(name, kCoreFields[i].name) != 0) continue;
+      char *base = (char *)&c->core + kCoreFields[i].offset;
+      if (kCoreFields[i].is_float) {
+        char *end = NULL;
+        const double d = strtod(value, &end);
+        if (end == value || *end != '\0' || !isfinite(d)) {
+          snprintf(err, errcap, "%s must be a number", key);
+          return -1;
+        }
+        const float f = (float)d;
+        memcpy(base, &f, sizeof f);
+      } else {
+        if (parse_ulong(value, 0xFFFFFFFFul, &u) != 0) {
+          snprintf(err, errcap, "%s must be a whole number", key);
+          return -1;
+        }
+        const uint32_t v = (uint32_t)u;
+        memcpy(base, &v, sizeof v);
+      }
+      return 0;
+    }
+    snprintf(err, errcap, "unknown core setting '%s' (names as in pv_config_t)", name);
+    return -1;
+  }
+  snprintf(err, errcap, "unknown key '%s'", key);
+  return -1;
+}
+
+static char *trim(char *s) {
+  while (*s == ' ' || *s == '\t') ++s;
+  size_t n = strlen(s);
+  while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t' || s[n - 1] == '\r' || s[n - 1] == '\n')) {
+    s[--n] = '\0';
+  }
+  return s;
+}
+
+int pv_board_config_load(pv_board_config_t *c, const char *path, char *err, size_t errcap) {
+  FILE *f = fopen(path, "r");
+  if (f == NULL) {
+    snprintf(err, errcap, "%s: cannot open the board configuration: %s", path, strerror(errno));
+    return -1;
+  }
+  char line[512], why[256];
+  int lineno = 0, rc = 0;
+  while (rc == 0 && fgets(line, sizeof line, f) != NULL) {
+    ++lineno;
+    char *hash = strchr(line, '#');
+    if (hash != NULL) *hash = '\0';
+    char *s = trim(line);
+    if (*s == '\0') continue;
+    char *eq = strchr(s, '=');
+    if (eq == NULL) {
+      snprintf(err, errcap, "%s:%d: expected 'key = value'", path, lineno);
+      rc = -1;
+      break;
+    }
+    *eq = '\0';
+    if (pv_board_config_set(c, trim(s), trim(eq + 1), why, sizeof why) != 0) {
+      snprintf(err, errcap, "%s:%d: %s", path, lineno, why);
+      rc = -1;
+    }
+  }
+  fclose(f);
+  return rc;
+}
+
+int pv_board_config_check(const pv_board_config_t *c, char *err, size_t errcap) {
+  if (c->display_width < 320 || c->display_height < 240) {
+    snprintf(err, errcap, "display_width x display_height must be at least 320 x 240");
+    return -1;
+  }
+  const char *field = NULL;
+  if (pv_config_validate(&c->core, &field) != PV_OK) {
+    snprintf(err, errcap, "core.%s is out of range", field != NULL ? field : "?");
+    return -1;
+  }
+  return 0;
+}

@@ -1,0 +1,58 @@
+/*
+ * The board's configuration file: `key = value` lines, '#' comments.
+ *
+ *   usb_vendor = 0x1209          scanner USB ids (docs/protocol/usb.md)
+ *   usb_product = 0x7050
+ *   display = fbdev:/dev/fb0     or png:DIR (host, tests); display.h
+ *   display_width = 320          canvas size in pixels (>= 320 x 240)
+ *   display_height = 240
+ *   input = evdev:/dev/input/event0   or pipe:PATH, none; input.h
+ *   serial = /dev/ttyS1          the tablet/logger link (issue 10), or none
+ *   units = cm3                  volume shown in cm3 or l
+ *   estimate_period_ms = 500     live estimate while scanning
+ *   core.<field> = value         any pv_config_t field by its name
+ *                                (core.method = paper, core.layer_mm ...)
+ * Unknown keys and bad values are errors that name the line.
+ */
+#ifndef PV_BOARD_CONFIG_H
+#define PV_BOARD_CONFIG_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "pitvol/pitvol.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PV_BOARD_PATH_BYTES 256u
+
+typedef enum pv_board_units { PV_UNITS_CM3 = 0, PV_UNITS_LITRE = 1 } pv_board_units_t;
+
+typedef struct pv_board_config {
+  uint16_t usb_vendor, usb_product;
+  char display[PV_BOARD_PATH_BYTES];
+  uint16_t display_width, display_height;
+  char input[PV_BOARD_PATH_BYTES];
+  char serial[PV_BOARD_PATH_BYTES];
+  pv_board_units_t units;
+  uint32_t estimate_period_ms;
+  pv_config_t core;
+} pv_board_config_t;
+
+/* Board defaults (fbdev:/dev/fb0, evdev:/dev/input/event0, 320x240, cm3)
+ * and the core's defaults. */
+void pv_board_config_default(pv_board_config_t *c);
+/* Applies one `key = value`; 0 or -1 with a reason in err. */
+int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value, char *err,
+                        size_t errcap);
+/* Reads a file on top of what c holds; 0 or -1 with "path:line: reason". */
+int pv_board_config_load(pv_board_config_t *c, const char *path, char *err, size_t errcap);
+/* Checks the whole configuration (core included); 0 or -1 with a reason. */
+int pv_board_config_check(const pv_board_config_t *c, char *err, size_t errcap);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,263 @@
+// The board's state machine (firmware/board_state.c), its configuration
+// file parser and the coverage hint, without devices.
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "pitvol/board_fonts.h"
+
+extern "C" {
+#include "board_config.h"
+#include "board_screens.h"
+#include "board_state.h"
+}
+
+#include "pv_cmocka.h"  // last: see pv_cmocka.h
+
+namespace {
+
+pv_board_model_t booted(bool present) {
+  pv_board_model_t m;
+  pv_board_init(&m);
+  pv_board_step(&m, present ? PV_EV_SCANNER_ARRIVED : PV_EV_SCANNER_GONE);
+  return m;
+}
+
+void boot_goes_to_idle_or_no_scanner(void **) {
+  pv_board_model_t m = booted(true);
+  assert_int_equal(m.state, PV_BOARD_IDLE);
+  m = booted(false);
+  assert_int_equal(m.state, PV_BOARD_NO_SCANNER);
+}
+
+void full_scan_cycle(void **) {
+  pv_board_model_t m = booted(true);
+  unsigned a = pv_board_step(&m, PV_EV_START_STOP);
+  assert_int_equal(m.state, PV_BOARD_SCANNING);
+  assert_true(a & PV_ACT_BEGIN_SCAN);
+  a = pv_board_step(&m, PV_EV_TICK);
+  assert_true(a & PV_ACT_ESTIMATE);
+  a = pv_board_step(&m, PV_EV_START_STOP);
+  assert_true(a & PV_ACT_STOP_SCAN);
+  assert_int_equal(m.state, PV_BOARD_SCANNING);  // until the scanner ends it
+  a = pv_board_step(&m, PV_EV_START_STOP);     // a second press does not stop twice
+  assert_false(a & PV_ACT_STOP_SCAN);
+  a = pv_board_step(&m, PV_EV_SCAN_ENDED);
+  assert_int_equal(m.state, PV_BOARD_MEASURING);
+  assert_true(a & PV_ACT_MEASURE);
+  assert_int_equal(pv_board_step(&m, PV_EV_START_STOP), 0u);  // busy: buttons ignored
+  m.result_status = PV_OK;
+  pv_board_step(&m, PV_EV_MEASURED);
+  assert_int_equal(m.state, PV_BOARD_RESULT);
+  pv_board_step(&m, PV_EV_ENTER);
+  assert_int_equal(m.state, PV_BOARD_IDLE);
+  pv_board_step(&m, PV_EV_ENTER);  // the last result again
+  assert_int_equal(m.state, PV_BOARD_RESULT);
+}
+
+void refused_result(void **) {
+  pv_board_model_t m = booted(true);
+  pv_board_step(&m, PV_EV_START_STOP);
+  pv_board_step(&m, PV_EV_SCAN_ENDED);
+  m.result_status = PV_ERR_WALL_GAP;
+  pv_board_step(&m, PV_EV_MEASURED);
+  assert_int_equal(m.state, PV_BOARD_REFUSED);
+  assert_true(pv_board_step(&m, PV_EV_START_STOP) & PV_ACT_BEGIN_SCAN);  // rescan at once
+}
+
+void unplug_pauses_and_resumes(void **) {
+  pv_board_model_t m = booted(true);
+  pv_board_step(&m, PV_EV_START_STOP);
+  pv_board_step(&m, PV_EV_SCANNER_GONE);
+  assert_int_equal(m.state, PV_BOARD_PAUSED);
+  unsigned a = pv_board_step(&m, PV_EV_SCANNER_ARRIVED);
+  assert_int_equal(m.state, PV_BOARD_SCANNING);
+  assert_false(a & PV_ACT_BEGIN_SCAN);  // same scan: the session is not reset
+  assert_int_equal(m.board_warnings, 0u);
+}
+
+void unplug_then_stop_measures_with_warning(void **) {
+  pv_board_model_t m = booted(true);
+  pv_board_step(&m, PV_EV_START_STOP);
+  pv_board_step(&m, PV_EV_SCANNER_GONE);
+  const unsigned a = pv_board_step(&m, PV_EV_START_STOP);
+  assert_int_equal(m.state, PV_BOARD_MEASURING);
+  assert_true(a & PV_ACT_MEASURE);
+  assert_true(m.board_warnings & PV_BOARD_WARN_ENDED_UNPLUGGED);
+}
+
+void stop_then_unplug_then_replug_measures(void **) {
+  pv_board_model_t m = booted(true);
+  pv_board_step(&m, PV_EV_START_STOP);
+  pv_board_step(&m, PV_EV_START_STOP);  // stopping
+  pv_board_step(&m, PV_EV_SCANNER_GONE);
+  assert_int_equal(m.state, PV_BOARD_PAUSED);
+  assert_true(pv_board_step(&m, PV_EV_SCANNER_ARRIVED) & PV_ACT_MEASURE);
+  assert_true(m.board_warnings & PV_BOARD_WARN_ENDED_UNPLUGGED);
+}
+
+void armed_start_waits_for_scanner(void **) {
+  pv_board_model_t m = booted(false);
+  assert_int_equal(pv_board_step(&m, PV_EV_START_STOP) & PV_ACT_BEGIN_SCAN, 0u);
+  assert_true(m.armed);
+  assert_true(pv_board_step(&m, PV_EV_SCANNER_ARRIVED) & PV_ACT_BEGIN_SCAN);
+  assert_int_equal(m.state, PV_BOARD_SCANNING);
+  // Not armed: arrival only makes the board ready.
+  m = booted(false);
+  pv_board_step(&m, PV_EV_SCANNER_ARRIVED);
+  assert_int_equal(m.state, PV_BOARD_IDLE);
+}
+
+void failed_start_returns_to_rest(void **) {
+  pv_board_model_t m = booted(true);
+  pv_board_step(&m, PV_EV_START_STOP);
+  pv_board_step(&m, PV_EV_SCAN_FAILED);
+  assert_int_equal(m.state, PV_BOARD_IDLE);
+}
+
+void config_file_parses_and_rejects(void **) {
+  pv_board_config_t c;
+  pv_board_config_default(&c);
+  char err[256];
+  const char *path = "test_board_config.conf";
+  FILE *f = std::fopen(path, "w");
+  assert_non_null(f);
+  std::fputs("# board\nusb_vendor = 0x1234\ndisplay = png:out  # host\ndisplay_width = 480\n"
+             "units = l\ncore.method = polar\ncore.layer_mm = 1.0\ncore.max_layers = 900\n", f);
+  std::fclose(f);
+  assert_int_equal(pv_board_config_load(&c, path, err, sizeof err), 0);
+  assert_int_equal(c.usb_vendor, 0x1234);
+  assert_string_equal(c.display, "png:out");
+  assert_int_equal(c.display_width, 480);
+  assert_int_equal(c.units, PV_UNITS_LITRE);
+  assert_int_equal(c.core.method, PV_METHOD_POLAR);
+  assert_true(c.core.layer_mm == 1.0f);
+  assert_int_equal(c.core.max_layers, 900u);
+  assert_int_equal(pv_board_config_check(&c, err, sizeof err), 0);
+
+  f = std::fopen(path, "w");
+  std::fputs("units = cm3\nbogus = 1\n", f);
+  std::fclose(f);
+  assert_int_equal(pv_board_config_load(&c, path, err, sizeof err), -1);
+  assert_non_null(std::strstr(err, ":2: unknown key 'bogus'"));
+  assert_int_equal(pv_board_config_set(&c, "usb_product", "70000", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "core.knn_k", "-3", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "core.nope", "1", err, sizeof err), -1);
+  c.core.layer_mm = 50.0f;  // out of the core's range
+  assert_int_equal(pv_board_config_check(&c, err, sizeof err), -1);
+  assert_non_null(std::strstr(err, "core.layer_mm"));
+  std::remove(path);
+}
+
+void coverage_hint_names_the_widest_unseen_band(void **) {
+  pv_result_t r{};
+  r.depth_mm = 160;
+  r.coverage_bands = PV_COVERAGE_BANDS;
+  for (float &c : r.coverage) c = 0.9f;
+  char l1[64], l2[64];
+  assert_int_equal(pv_board_coverage_hint(&r, PV_OK, l1, sizeof l1, l2, sizeof l2), 0);
+  r.coverage[1] = 0.2f;                     // 10-20 mm
+  r.coverage[3] = r.coverage[4] = 0.1f;     // 30-50 mm: wider, wins
+  assert_int_equal(pv_board_coverage_hint(&r, PV_OK, l1, sizeof l1, l2, sizeof l2), 1);
+  assert_string_equal(l1, "wall 30-50 mm not seen");
+  assert_string_equal(l2, "tilt into the pit");
+  for (float &c : r.coverage) c = 0.9f;
+  r.coverage[15] = 0.0f;  // under the rim
+  pv_board_coverage_hint(&r, PV_OK, l1, sizeof l1, l2, sizeof l2);
+  assert_string_equal(l1, "wall 150-160 mm not seen");
+  assert_string_equal(l2, "aim at the upper wall");
+  // The core's own gap wins when it refuses for it.
+  r.gap_from_mm = 55;
+  r.gap_to_mm = 90;
+  pv_board_coverage_hint(&r, PV_ERR_WALL_GAP, l1, sizeof l1, l2, sizeof l2);
+  assert_string_equal(l1, "wall 55-90 mm not seen");
+}
+
+// Draws a model's screen and returns the text it laid out.
+std::string screen_text(const pv_board_model_t &m, pv_board_units_t units = PV_UNITS_CM3) {
+  static pv_board_fonts_t fonts;
+  static bool parsed = false;
+  if (!parsed) {
+    assert_int_equal(pv_font_parse_psf2(&fonts.body, pv_font_10x20, pv_font_10x20_bytes, nullptr), 0);
+    assert_int_equal(pv_font_parse_psf2(&fonts.big, pv_font_16x32, pv_font_16x32_bytes, nullptr), 0);
+    parsed = true;
+  }
+  std::vector<uint8_t> mem(pv_canvas_bytes(320, 240, 4096));
+  pv_canvas_t c;
+  assert_int_equal(pv_canvas_init(&c, 320, 240, 4096, mem.data(), mem.size()), 0);
+  pv_board_draw(&c, &m, &fonts, units);
+  assert_false(c.text_truncated);
+  return c.text;
+}
+
+bool has(const std::string &text, const char *what) {
+  if (text.find(what) != std::string::npos) return true;
+  std::fprintf(stderr, "screen lacks '%s':\n%s", what, text.c_str());
+  return false;
+}
+
+void screens_say_what_matters(void **) {
+  pv_board_model_t m = booted(true);
+  m.state = PV_BOARD_RESULT;
+  m.result_status = PV_OK;
+  m.result.volume_cm3 = 11712.84;
+  m.result.interval_cm3 = 12.34;
+  m.result.depth_mm = 297.37;
+  m.result.warnings = PV_WARN_BRIDGED | PV_WARN_POINTS_THINNED;
+  std::string t = screen_text(m);
+  assert_true(has(t, "|11712.8\n"));
+  assert_true(has(t, "|\xC2\xB1 12.3 cm\xC2\xB3\n"));
+  assert_true(has(t, "|! unseen wall bridged\n"));
+  assert_true(has(t, "|dense layers thinned\n"));
+  assert_true(has(t, "result volume_cm3=11712.84 "));
+  t = screen_text(m, PV_UNITS_LITRE);
+  assert_true(has(t, "|11.713\n"));
+
+  m.state = PV_BOARD_REFUSED;
+  m.result_status = PV_ERR_WALL_GAP;
+  m.result.gap_from_mm = 55;
+  m.result.gap_to_mm = 90;
+  t = screen_text(m);
+  assert_true(has(t, "|wall 55-90 mm not seen\n"));
+  assert_true(has(t, "refused status=PV_ERR_WALL_GAP"));
+  assert_true(t.find("11712") == std::string::npos);  // a refusal shows no number
+
+  m.state = PV_BOARD_SCANNING;
+  m.points = 123456;
+  m.live_valid = 1;
+  m.live_status = PV_OK;
+  m.live.volume_cm3 = 9000;
+  m.live.depth_mm = 160;
+  m.live.coverage_bands = PV_COVERAGE_BANDS;
+  for (float &c : m.live.coverage) c = 1.0f;
+  m.live.coverage[2] = 0.1f;
+  t = screen_text(m);
+  assert_true(has(t, "|~9000.0 cm\xC2\xB3\n"));
+  assert_true(has(t, "|points 123 456\n"));
+  assert_true(has(t, "|wall 20-30 mm not seen\n"));
+  assert_true(has(t, "coverage 1.00 1.00 0.10 1.00"));
+
+  m.state = PV_BOARD_PAUSED;
+  t = screen_text(m);
+  assert_true(has(t, "|123 456 points kept\n"));
+}
+
+}  // namespace
+
+int main() {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(boot_goes_to_idle_or_no_scanner),
+      cmocka_unit_test(full_scan_cycle),
+      cmocka_unit_test(refused_result),
+      cmocka_unit_test(unplug_pauses_and_resumes),
+      cmocka_unit_test(unplug_then_stop_measures_with_warning),
+      cmocka_unit_test(stop_then_unplug_then_replug_measures),
+      cmocka_unit_test(armed_start_waits_for_scanner),
+      cmocka_unit_test(failed_start_returns_to_rest),
+      cmocka_unit_test(config_file_parses_and_rejects),
+      cmocka_unit_test(coverage_hint_names_the_widest_unseen_band),
+      cmocka_unit_test(screens_say_what_matters),
+  };
+  return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
