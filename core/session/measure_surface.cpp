@@ -79,7 +79,17 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
     out->status = PV_ERR_TOO_FEW_LAYERS;
     return out->status;
   }
-  const surface::Volume v = surface::integrate(s->surf, m, p);
+  // The section per 0.5 mm step goes to the layer detail (pv_session_layers)
+  // through the area-sequence arrays, which this method does not use.
+  surface::Profile prof{reinterpret_cast<float *>(s->seq_z), reinterpret_cast<float *>(s->seq_area),
+                        reinterpret_cast<float *>(s->seq_scratch), s->grid.layers, 0};
+  const surface::Volume v = surface::integrate(s->surf, m, p, &prof);
+  s->layer_info_count = 0;
+  for (size_t i = 0; i < prof.n; ++i) {
+    const bool seen = prof.seen_share[i] >= 0.5f;
+    s->layer_info[s->layer_info_count++] =
+        pv_layer_info_t{prof.z_mm[i], prof.area_mm2[i], 0, uint8_t(seen ? 1 : 0), 0};
+  }
   out->coverage_bands = PV_COVERAGE_BANDS;
   surface::coverage(s->surf, m, p, PV_COVERAGE_BANDS, out->coverage);
   out->points_used = s->bins.stored() + s->floor_bins.stored();

@@ -732,7 +732,8 @@ double wedge_volume(const Workspace &ws, const Params &p, uint32_t t, double R, 
 
 }  // namespace
 
-Volume integrate(const Workspace &ws, const Model &m, const Params &p) {
+Volume integrate(const Workspace &ws, const Model &m, const Params &p, Profile *profile) {
+  if (profile != nullptr) profile->n = 0;
   prepare_rays(ws, m, p);
   const Geo g = geo_of(ws, m, p);
   const double dth = 2 * kPi / g.T;
@@ -747,14 +748,23 @@ Volume integrate(const Workspace &ws, const Model &m, const Params &p) {
       const double h = std::min(p.integrate_dz_mm, m.rim_mm - z);
       const double zm = z + 0.5 * h;
       double step = 0;
+      uint32_t known_bins = 0;
       const auto zb = uint32_t(std::min<double>(g.Z - 1, std::max(0.0, (zm - g.z0) / g.dz)));
       for (uint32_t t = 0; t < g.T; ++t) {
         const double dv = wedge_volume(ws, p, t, radius_at(val, g, t, zm), z, z + h, dth);
         step += dv;
-        if (which == 0 && !known(ws.wall[size_t(zb) * g.T + t], p)) unseen += dv;
+        const bool k = known(ws.wall[size_t(zb) * g.T + t], p);
+        known_bins += k;
+        if (which == 0 && !k) unseen += dv;
       }
       vol += step;
       const double area = step / h;
+      if (which == 0 && profile != nullptr && profile->n < profile->cap && zm >= 0) {
+        profile->z_mm[profile->n] = float(zm);
+        profile->area_mm2[profile->n] = float(area);
+        profile->seen_share[profile->n] = float(known_bins) / float(g.T);
+        ++profile->n;
+      }
       if (which == 0) last_area = area;
     }
     out[which] = vol;

@@ -155,7 +155,18 @@ struct Volume {
   double rim_area_mm2;    // section just below the rim
 };
 
-Volume integrate(const Workspace &ws, const Model &m, const Params &p);
+// Section area per integration step, for plots and pv_session_layers():
+// filled up to cap steps (bottom first) when not null.
+struct Profile {
+  float *z_mm;          // step centre
+  float *area_mm2;
+  float *seen_share;    // share of the step's wall seen or bridged short
+  size_t cap;
+  size_t n;
+};
+
+Volume integrate(const Workspace &ws, const Model &m, const Params &p,
+                 Profile *profile = nullptr);
 
 // Share of wall bins seen per height band (bands equal parts of 0..rim).
 // "Seen" counts bins bridged over at most short_gap_bins.

@@ -163,7 +163,7 @@ int main(int argc, char **argv) {
     else if (a == "--check" && i + 1 < argc) check = argv[++i];
     else return usage();
   }
-  if (methods.empty()) methods.push_back("paper");  // every method the core offers
+  if (methods.empty()) methods.push_back("surface");  // the default method
   std::vector<Case> cases;
   if (!read_manifest(dir, &cases)) {
     std::fprintf(stderr, "pitvol-accuracy: no usable %s/manifest.csv (run pitvol-sim corpus --out %s)\n",
