@@ -5,7 +5,7 @@
 # not compared.
 # Usage: compare_bits.sh OUTDIR "REFERENCE CMD" "TARGET CMD" SCAN...
 #   A TARGET CMD "semihost:QEMU ARGS -kernel APP.elf APP ARGS" runs a
-#   bare-metal app, its arguments passed through semihosting.
+#   bare-metal app once per scan, its arguments passed through semihosting.
 set -euo pipefail
 out=$1 ref_cmd=$2 target_cmd=$3
 shift 3
@@ -31,9 +31,14 @@ if [[ $target_cmd == semihost:* ]]; then
     if [ $seen_kernel -eq 1 ]; then after=1; fi
     if [ "$w" = "-kernel" ]; then seen_kernel=1; fi
   done
-  sh_args="enable=on,target=native,arg=pv-replay"
-  for a in "${app_args[@]}" "$@"; do sh_args+=",arg=$a"; done
-  "${qemu[@]}" -semihosting-config "$sh_args" > "$out/target.txt" || true
+  # One run per scan, from the scan's directory: newlib reads the command
+  # line into a 255-byte buffer, too small for several absolute paths.
+  : > "$out/target.txt"
+  for scan in "$@"; do
+    sh_args="enable=on,target=native,arg=pv-replay"
+    for a in "${app_args[@]}" "$(basename "$scan")"; do sh_args+=",arg=$a"; done
+    (cd "$(dirname "$scan")" && "${qemu[@]}" -semihosting-config "$sh_args") >> "$out/target.txt" || true
+  done
 else
   # shellcheck disable=SC2086
   $target_cmd "$@" > "$out/target.txt" || true

@@ -13,11 +13,11 @@
 
 static inline void pv_mcu_config(pv_config_t *cfg) {
   pv_config_default(cfg);
-  cfg->layer_mm = 1.0f;            // 1 mm layers (default 0.5)
-  cfg->max_layers = 336;           // 336 mm of depth range (pits to ~300 mm)
-  cfg->points_per_layer = 64;      // the smallest bin pv_config_validate allows
-  cfg->level_sample_points = 512;
-  cfg->warmup_points = 2048;
+  cfg->layer_mm = 2.0f;            // the thickest layer allowed (default 0.5)
+  cfg->max_layers = 176;           // 352 mm of depth range
+  cfg->points_per_layer = 128;     // default 1024
+  cfg->level_sample_points = 512;  // default 8192
+  cfg->warmup_points = 2048;       // default 32768
 }
 
 #endif
