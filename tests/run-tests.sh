@@ -26,3 +26,4 @@ cmake --preset mcu >/dev/null
 cmake --build --preset mcu -j "$jobs"
 ctest --preset mcu -j "$jobs" -L mcu
 toolchain/run-cppcheck.sh
+toolchain/size-report.sh   # docs/memory.md: refresh with --write

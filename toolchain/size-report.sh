@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.."
 lib_size() {  # SIZE-TOOL LIB -> "text data bss"
   "$1" -t "$2" | awk '/\(TOTALS\)/ {print $1, $2, $3}'
 }
-fmt() { printf "%'d" "$1"; }
+fmt() { sed ':a;s/\B[0-9]\{3\}\>/,&/;ta' <<<"$1"; }  # 1234567 -> 1,234,567
 block_of() {  # CMD... -> bytes
   "$@" | awk '/^block_bytes/ {print $2}'
 }
@@ -30,7 +30,6 @@ for f in build/core/libpitvol_core.a build-board/core/libpitvol_core.a \
   [ -f "$f" ] || { echo "missing $f: build the default, board and mcu presets first" >&2; exit 1; }
 done
 
-export LC_NUMERIC=en_US.UTF-8 2>/dev/null || true
 table=$(
   echo "| target | core text | core data | core bss | block, default config | block, MCU config |"
   echo "|---|---|---|---|---|---|"
