@@ -26,7 +26,8 @@
 
 #if defined(PV_REPLAY_BARE_METAL)
 // The linker script places .pv_block in a region of exactly
-// PV_MCU_BLOCK_BYTES: a block that does not fit fails the link.
+// PV_MCU_BLOCK_BYTES: a bigger array fails the link; a configuration that
+// needs more than the array is refused by pv_session_init.
 #define PV_BLOCK_SECTION __attribute__((section(".pv_block")))
 #else
 #define PV_BLOCK_SECTION
