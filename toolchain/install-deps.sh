@@ -1,13 +1,20 @@
 #!/usr/bin/env bash
 # Installs the Debian packages pitvol builds and tests with, and only those
 # that are missing, so it is cheap to run before every build (idempotent).
-# Usage: toolchain/install-deps.sh [extra-package ...]
+# Usage: toolchain/install-deps.sh [--cross] [extra-package ...]
+#   --cross  also the board (aarch64) and MCU (Cortex-M7) toolchains and
+#            emulators, cppcheck, and the arm64 cmocka (docs/targets.md).
 set -euo pipefail
+
+cross=0
+if [ "${1:-}" = "--cross" ]; then
+  cross=1
+  shift
+fi
 
 packages=(
   cmake ninja-build pkg-config g++
   libeigen3-dev      # fixed-size linear algebra in the core
-  libnanoflann-dev   # kNN for adaptive thinning
   libcmocka-dev      # C unit test framework
   libembree-dev      # ray casting in the scanner simulator (host only)
   libusb-1.0-0-dev   # the scanner's USB driver (drivers/usb)
@@ -17,6 +24,19 @@ packages=(
   nanopb libnanopb-dev      # serial link messages (firmware/link/pitvol_link.proto)
   "$@"
 )
+if [ $cross -eq 1 ]; then
+  packages+=(
+    g++-aarch64-linux-gnu qemu-user-static   # board build, tests under qemu-aarch64
+    gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
+    qemu-system-arm                          # MCU build, runs on mps2-an500
+    cppcheck
+    # The board's unit tests link the arm64 cmocka (multiarch). Only this
+    # one arm64 -dev package: libusb-1.0-0-dev:arm64 and umockdev's would
+    # pull upgrades of amd64 systemd/udev, so the board has no USB driver
+    # build and the usb tests run natively only.
+    libcmocka-dev:arm64
+  )
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -26,6 +46,11 @@ for p in "${packages[@]}"; do
 done
 [ ${#missing[@]} -eq 0 ] && exit 0
 
+need_update=0
+if [ $cross -eq 1 ] && ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  need_update=1  # arm64 package lists appear only after an update
+fi
+
 echo "pitvol: installing missing packages: ${missing[*]}" >&2
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then
@@ -33,5 +58,9 @@ if [ "$(id -u)" -ne 0 ]; then
   sudo_cmd=(sudo)
 fi
 export DEBIAN_FRONTEND=noninteractive
+if [ $need_update -eq 1 ]; then
+  echo "pitvol: adding the arm64 architecture to dpkg (for libcmocka-dev:arm64)" >&2
+  "${sudo_cmd[@]}" dpkg --add-architecture arm64
+fi
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -213,14 +213,24 @@ extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points
 
 namespace {
 
+// measure() reports every failure as a status and neither throws nor
+// allocates (the last allocation, the kd-tree of adaptive thinning, is gone).
+// Host builds with exceptions still turn a stray one into a status rather
+// than let it cross the C ABI; the MCU builds without exceptions.
 pv_status_t guarded_measure(pv_session *s, pv_result_t *out) {
+#if defined(__cpp_exceptions)
   try {
     return session::measure(s, out);
   } catch (const std::bad_alloc &) {
+    out->status = PV_ERR_OUT_OF_MEMORY;
     return PV_ERR_OUT_OF_MEMORY;
   } catch (...) {
+    out->status = PV_ERR_INTERNAL;
     return PV_ERR_INTERNAL;
   }
+#else
+  return session::measure(s, out);
+#endif
 }
 
 }  // namespace

@@ -1,14 +1,12 @@
-// Adaptive thinning of one layer: see adaptive_thinning.h for the method and
-// the decisions. Everything here works on caller memory, except the kd-tree
-// build (documented exception).
+// Adaptive thinning of one layer: see adaptive_thinning.h for the method,
+// the decisions and the neighbour grid. Everything here works on caller
+// memory (the session block): no heap, no exceptions.
 #include "thinning/adaptive_thinning.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-
-#include <nanoflann.hpp>
 
 namespace pv {
 namespace thinning {
@@ -17,57 +15,90 @@ namespace {
 
 enum : uint8_t { kUnhandled = 0, kKept = 1, kSampled = 2 };
 
-// nanoflann dataset adaptor over the caller's points (no copy).
-struct LayerCloud {
-  const XY *pts;
-  size_t n;
-  size_t kdtree_get_point_count() const { return n; }
-  double kdtree_get_pt(const uint32_t idx, const size_t dim) const {
-    return dim == 0 ? pts[idx].x_mm : pts[idx].y_mm;
-  }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox &) const {
-    return false;  // let nanoflann compute it
-  }
-};
+// The kNN search stops once its k-th distance is below the ring bound by
+// this relative margin, so that rounding in the cell index of a point can
+// never hide a nearer point in an unvisited ring.
+constexpr double kRingMargin = 1.0 - 1e-9;
 
-using Metric = nanoflann::L2_Simple_Adaptor<double, LayerCloud, double, uint32_t>;
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<Metric, LayerCloud, 2, uint32_t>;
-
-// Collects the unhandled points of the square |dx|,|dy| <= half around a
-// centre into a caller buffer. nanoflann searches a disc (squared L2), so we
-// ask for the circumscribed disc and filter to the square ourselves; this
-// replaces radiusSearch, whose result set grows a std::vector.
-class SquareResultSet {
+// Hashed uniform grid over the canonical points of one layer. Cell indices
+// come from one function (cell_of) for the points and for the queries, and
+// it is monotone in x and y, so range queries over cells are exact.
+class NeighbourGrid {
  public:
-  SquareResultSet(const XY *pts, const uint8_t *state, double cx, double cy,
-                  double half_mm, uint32_t *out, size_t cap)
-      : pts_(pts), state_(state), cx_(cx), cy_(cy), half_(half_mm),
-        // A corner point sits exactly on the disc and nanoflann tests with a
-        // strict '<': widen a hair; the square test below is the exact one.
-        radius_sq_(2.0 * half_mm * half_mm * (1.0 + 1e-9) + 1e-12),
-        out_(out), cap_(cap) {}
+  NeighbourGrid(const XY *pts, size_t n, uint32_t k, const Workspace &ws)
+      : pts_(pts), start_(ws.grid_start), items_(ws.grid_items) {
+    double min_y = pts[0].y_mm;
+    double max_y = min_y;
+    for (size_t i = 1; i < n; ++i) {
+      min_y = std::min(min_y, pts[i].y_mm);
+      max_y = std::max(max_y, pts[i].y_mm);
+    }
+    min_x_ = pts[0].x_mm;  // canonical: sorted by x
+    min_y_ = min_y;
+    const double extent = (pts[n - 1].x_mm - min_x_) + (max_y - min_y);
+    // About k + 1 points per cell along a contour (see the header).
+    double h = extent * static_cast<double>(k + 1) / static_cast<double>(n);
+    if (!(h > 0.0) || !std::isfinite(h)) h = 1.0;  // all points coincide
+    h_ = h;
+    inv_h_ = 1.0 / h;
+    nx_ = raw_cell(pts[n - 1].x_mm, min_x_) + 1;
+    ny_ = raw_cell(max_y, min_y_) + 1;
+    buckets_ = 1;
+    while (buckets_ * 2 <= n) buckets_ *= 2;
+    build(n);
+  }
 
-  size_t size() const { return count_; }
-  bool full() const { return true; }
-  double worstDist() const { return radius_sq_; }
+  double cell_side_mm() const { return h_; }
+  int64_t nx() const { return nx_; }
+  int64_t ny() const { return ny_; }
+  int64_t cell_x(double x) const { return clamp(raw_cell(x, min_x_), nx_); }
+  int64_t cell_y(double y) const { return clamp(raw_cell(y, min_y_), ny_); }
 
-  bool addPoint(double /*dist_sq*/, uint32_t idx) {
-    if (state_[idx] != kUnhandled) return true;
-    if (std::fabs(pts_[idx].x_mm - cx_) > half_) return true;
-    if (std::fabs(pts_[idx].y_mm - cy_) > half_) return true;
-    if (count_ == cap_) return false;  // cannot happen with cap = n; stop safely
-    out_[count_++] = idx;
-    return true;
+  // Calls f(index) for every point in cell (cx, cy), in canonical order.
+  template <class F>
+  void for_each_in_cell(int64_t cx, int64_t cy, F &&f) const {
+    const uint32_t b = bucket(cx, cy);
+    for (uint32_t q = start_[b]; q < start_[b + 1]; ++q) {
+      const uint32_t i = items_[q];
+      if (cell_x(pts_[i].x_mm) == cx && cell_y(pts_[i].y_mm) == cy) f(i);
+    }
   }
 
  private:
+  // Truncation, not floor: v >= lo for every point (lo is the minimum), so
+  // both agree there, and truncation is monotone too (queries below lo clamp
+  // to cell 0 either way). It is also one instruction, where floor is a libm
+  // call on baseline x86-64.
+  int64_t raw_cell(double v, double lo) const {
+    return static_cast<int64_t>((v - lo) * inv_h_);
+  }
+  static int64_t clamp(int64_t c, int64_t n) { return c < 0 ? 0 : (c >= n ? n - 1 : c); }
+  uint32_t bucket(int64_t cx, int64_t cy) const {
+    const uint32_t hx = static_cast<uint32_t>(cx) * 0x9E3779B1u;
+    const uint32_t hy = static_cast<uint32_t>(cy) * 0x85EBCA77u;
+    return (hx ^ (hy >> 7) ^ hy) & static_cast<uint32_t>(buckets_ - 1);
+  }
+  // Counting sort of the point indices by bucket (stable: canonical order
+  // inside a bucket).
+  void build(size_t n) {
+    std::fill(start_, start_ + buckets_ + 1, uint32_t{0});
+    for (size_t i = 0; i < n; ++i)
+      ++start_[bucket(cell_x(pts_[i].x_mm), cell_y(pts_[i].y_mm)) + 1];
+    for (size_t b = 0; b < buckets_; ++b) start_[b + 1] += start_[b];
+    // Place with start[b] as the cursor, then shift the starts back.
+    for (size_t i = 0; i < n; ++i)
+      items_[start_[bucket(cell_x(pts_[i].x_mm), cell_y(pts_[i].y_mm))]++] =
+          static_cast<uint32_t>(i);
+    for (size_t b = buckets_; b > 0; --b) start_[b] = start_[b - 1];
+    start_[0] = 0;
+  }
+
   const XY *pts_;
-  const uint8_t *state_;
-  double cx_, cy_, half_, radius_sq_;
-  uint32_t *out_;
-  size_t cap_;
-  size_t count_ = 0;
+  uint32_t *start_;
+  uint32_t *items_;
+  double min_x_ = 0.0, min_y_ = 0.0, h_ = 1.0, inv_h_ = 1.0;
+  int64_t nx_ = 1, ny_ = 1;
+  size_t buckets_ = 1;
 };
 
 bool less_xy(const XY &a, const XY &b) {
@@ -79,30 +110,68 @@ uint32_t clamp_k(uint32_t k) {
   return std::min(std::max(k, uint32_t{1}), kMaxKnnK);
 }
 
+double dist_sq(const XY &a, const XY &b) {
+  const double dx = a.x_mm - b.x_mm;
+  const double dy = a.y_mm - b.y_mm;
+  return dx * dx + dy * dy;
+}
+
 // Mean distance to the k nearest neighbours of point i (itself excluded).
-// The query asks for k + 1 because the point finds itself at distance 0;
-// summing all k + 1 distances and dividing by k drops exactly that zero,
-// whichever of several duplicates the tree returned as "itself".
-double mean_knn_dist_mm(const KdTree &tree, const XY &q, uint32_t k) {
-  uint32_t idx[kMaxKnnK + 1];
-  double dist_sq[kMaxKnnK + 1];
-  nanoflann::KNNResultSet<double, uint32_t, uint32_t> rs(k + 1);
-  rs.init(idx, dist_sq);
-  const double query[2] = {q.x_mm, q.y_mm};
-  tree.findNeighbors(rs, query, nanoflann::SearchParams());
+// The k + 1 smallest squared distances are kept sorted; the point finds
+// itself at distance 0, so summing all k + 1 distances and dividing by k
+// drops exactly that zero, whichever of several duplicates is "itself".
+double mean_knn_dist_mm(const NeighbourGrid &g, const XY *pts, size_t i, uint32_t k) {
+  double best[kMaxKnnK + 1];
+  uint32_t count = 0;
+  const uint32_t want = k + 1;
+  const XY &q = pts[i];
+  auto offer = [&](uint32_t j) {
+    const double d2 = dist_sq(q, pts[j]);
+    if (count == want && !(d2 < best[want - 1])) return;
+    uint32_t w = count < want ? count++ : want - 1;
+    while (w > 0 && best[w - 1] > d2) {
+      best[w] = best[w - 1];
+      --w;
+    }
+    best[w] = d2;
+  };
+  const int64_t qx = g.cell_x(q.x_mm), qy = g.cell_y(q.y_mm);
+  const int64_t r_max = std::max(g.nx(), g.ny());
+  for (int64_t r = 0; r <= r_max; ++r) {
+    const int64_t x0 = std::max<int64_t>(qx - r, 0), x1 = std::min(qx + r, g.nx() - 1);
+    const int64_t y0 = std::max<int64_t>(qy - r, 0), y1 = std::min(qy + r, g.ny() - 1);
+    for (int64_t cx = x0; cx <= x1; ++cx) {
+      const bool edge_x = (cx == qx - r || cx == qx + r);
+      for (int64_t cy = y0; cy <= y1; ++cy) {
+        // Only the ring at Chebyshev distance r: inner cells are done.
+        if (!edge_x && cy != qy - r && cy != qy + r) {
+          cy = std::max(cy, qy + r - 1);  // jump to the ring's far row
+          continue;
+        }
+        g.for_each_in_cell(cx, cy, offer);
+      }
+    }
+    // Any point in a cell beyond ring r lies more than r cells away along
+    // one axis, i.e. farther than r * h: the k + 1 best are final.
+    if (count == want) {
+      const double bound = static_cast<double>(r) * g.cell_side_mm() * kRingMargin;
+      if (best[want - 1] < bound * bound) break;
+    }
+  }
   double sum = 0.0;
-  // Results come sorted by distance, so the summation order is fixed.
-  for (uint32_t j = 0; j < rs.size(); ++j) sum += std::sqrt(dist_sq[j]);
+  // Ascending order: equal distances are equal values, so the sum is a
+  // function of the distance multiset only.
+  for (uint32_t j = 0; j < count; ++j) sum += std::sqrt(best[j]);
   return std::max(sum / static_cast<double>(k), kMinMeanDistMm);
 }
 
 // Step 3.5.1 + 3.5.2: fills spacing_mm[i] with s_i.
-void compute_spacing(const KdTree &tree, const XY *pts, size_t n, uint32_t k,
+void compute_spacing(const NeighbourGrid &g, const XY *pts, size_t n, uint32_t k,
                      double s0_mm, double *spacing_mm) {
   double rho_min = std::numeric_limits<double>::infinity();
   double rho_max = 0.0;
   for (size_t i = 0; i < n; ++i) {
-    const double rho = 1.0 / mean_knn_dist_mm(tree, pts[i], k);
+    const double rho = 1.0 / mean_knn_dist_mm(g, pts, i, k);
     spacing_mm[i] = rho;  // hold rho until the extremes are known
     rho_min = std::min(rho_min, rho);
     rho_max = std::max(rho_max, rho);
@@ -111,8 +180,8 @@ void compute_spacing(const KdTree &tree, const XY *pts, size_t n, uint32_t k,
     spacing_mm[i] = spacing_from_density(spacing_mm[i], rho_min, rho_max, s0_mm);
 }
 
-// Of the candidates of one square, the one nearest their centroid; ties go
-// to the lower canonical index so the choice never depends on tree order.
+// Of the candidates of one square (in canonical order), the one nearest
+// their centroid; ties go to the lower canonical index.
 uint32_t pick_nearest_centroid(const XY *pts, const uint32_t *cand, size_t m) {
   double sx = 0.0, sy = 0.0;
   for (size_t j = 0; j < m; ++j) {
@@ -124,9 +193,7 @@ uint32_t pick_nearest_centroid(const XY *pts, const uint32_t *cand, size_t m) {
   uint32_t best = cand[0];
   double best_d2 = std::numeric_limits<double>::infinity();
   for (size_t j = 0; j < m; ++j) {
-    const double dx = pts[cand[j]].x_mm - cx;
-    const double dy = pts[cand[j]].y_mm - cy;
-    const double d2 = dx * dx + dy * dy;
+    const double d2 = dist_sq(pts[cand[j]], XY{cx, cy});
     if (d2 < best_d2 || (d2 == best_d2 && cand[j] < best)) {
       best_d2 = d2;
       best = cand[j];
@@ -135,16 +202,38 @@ uint32_t pick_nearest_centroid(const XY *pts, const uint32_t *cand, size_t m) {
   return best;
 }
 
+// The unhandled points of the square |dx|, |dy| <= half around point i,
+// into out[] in canonical order; returns their count.
+size_t gather_square(const NeighbourGrid &g, const XY *pts, const uint8_t *state, size_t i,
+                     double half_mm, uint32_t *out, size_t cap) {
+  const XY &c = pts[i];
+  // One cell of slack each side: the corners are computed in rounded
+  // arithmetic; the exact test is the one on |dx|, |dy| below.
+  const int64_t x0 = std::max<int64_t>(g.cell_x(c.x_mm - half_mm) - 1, 0);
+  const int64_t x1 = std::min(g.cell_x(c.x_mm + half_mm) + 1, g.nx() - 1);
+  const int64_t y0 = std::max<int64_t>(g.cell_y(c.y_mm - half_mm) - 1, 0);
+  const int64_t y1 = std::min(g.cell_y(c.y_mm + half_mm) + 1, g.ny() - 1);
+  size_t m = 0;
+  for (int64_t cx = x0; cx <= x1; ++cx) {
+    for (int64_t cy = y0; cy <= y1; ++cy) {
+      g.for_each_in_cell(cx, cy, [&](uint32_t j) {
+        if (state[j] != kUnhandled || m == cap) return;
+        if (std::fabs(pts[j].x_mm - c.x_mm) > half_mm) return;
+        if (std::fabs(pts[j].y_mm - c.y_mm) > half_mm) return;
+        out[m++] = j;
+      });
+    }
+  }
+  std::sort(out, out + m);  // canonical order: the centroid sum is fixed
+  return m;
+}
+
 // Step 3.5.3: local-grid optimal sampling, marks ws.state.
-void sample_cells(const KdTree &tree, const XY *pts, size_t n, const Workspace &ws) {
+void sample_cells(const NeighbourGrid &g, const XY *pts, size_t n, const Workspace &ws) {
   std::fill(ws.state, ws.state + n, uint8_t{kUnhandled});
   for (size_t i = 0; i < n; ++i) {
     if (ws.state[i] != kUnhandled) continue;
-    SquareResultSet rs(pts, ws.state, pts[i].x_mm, pts[i].y_mm,
-                       0.5 * ws.spacing_mm[i], ws.candidates, n);
-    const double query[2] = {pts[i].x_mm, pts[i].y_mm};
-    tree.findNeighbors(rs, query, nanoflann::SearchParams());
-    size_t m = rs.size();
+    size_t m = gather_square(g, pts, ws.state, i, 0.5 * ws.spacing_mm[i], ws.candidates, n);
     if (m == 0) {  // the point itself is always inside; guard anyway
       ws.candidates[0] = static_cast<uint32_t>(i);
       m = 1;
@@ -163,15 +252,23 @@ size_t compact_kept(XY *pts, size_t n, const uint8_t *state) {
   return w;
 }
 
+bool usable(const Workspace &ws, size_t n) {
+  return ws.spacing_mm != nullptr && ws.state != nullptr && ws.candidates != nullptr &&
+         ws.grid_items != nullptr && ws.grid_start != nullptr && ws.capacity >= n &&
+         n <= UINT32_MAX;
+}
+
 }  // namespace
 
 size_t workspace_bytes_per_point() {
-  return sizeof(double) + sizeof(uint8_t) + sizeof(uint32_t);
+  return sizeof(double) + sizeof(uint8_t) + 3 * sizeof(uint32_t);
 }
 
 size_t workspace_bytes(size_t n) {
-  // Slack for aligning the double and uint32 arrays inside an arbitrary block.
-  return n * workspace_bytes_per_point() + alignof(double) + alignof(uint32_t);
+  // One more bucket start, and slack for aligning the double and uint32
+  // arrays inside an arbitrary block.
+  return n * workspace_bytes_per_point() + sizeof(uint32_t) + alignof(double) +
+         alignof(uint32_t);
 }
 
 bool make_workspace(void *block, size_t block_bytes, size_t n, Workspace *ws) {
@@ -182,8 +279,14 @@ bool make_workspace(void *block, size_t block_bytes, size_t n, Workspace *ws) {
   p += n * sizeof(double);  // still aligned for uint32_t
   uint32_t *cand = reinterpret_cast<uint32_t *>(p);
   p += n * sizeof(uint32_t);
+  uint32_t *items = reinterpret_cast<uint32_t *>(p);
+  p += n * sizeof(uint32_t);
+  uint32_t *start = reinterpret_cast<uint32_t *>(p);  // at most n buckets + 1
+  p += (n + 1) * sizeof(uint32_t);
   ws->spacing_mm = spacing;
   ws->candidates = cand;
+  ws->grid_items = items;
+  ws->grid_start = start;
   ws->state = reinterpret_cast<uint8_t *>(p);
   ws->capacity = n;
   return true;
@@ -210,19 +313,25 @@ size_t canonicalize(XY *pts, size_t n) {
   return w;
 }
 
+bool mean_knn_distances(const XY *pts, size_t n, uint32_t k, const Workspace &ws, double *d_mm) {
+  k = clamp_k(k);
+  if (pts == nullptr || d_mm == nullptr || !usable(ws, n) || n < static_cast<size_t>(k) + 1)
+    return false;
+  const NeighbourGrid g(pts, n, k, ws);
+  for (size_t i = 0; i < n; ++i) d_mm[i] = mean_knn_dist_mm(g, pts, i, k);
+  return true;
+}
+
 size_t thin_layer(XY *pts, size_t n, const Params &p, const Workspace &ws) {
   if (pts == nullptr || n == 0) return 0;
-  if (ws.spacing_mm == nullptr || ws.state == nullptr || ws.candidates == nullptr ||
-      ws.capacity < n || n > UINT32_MAX)
-    return n;
+  if (!usable(ws, n)) return n;
   n = canonicalize(pts, n);
   const uint32_t k = clamp_k(p.knn_k);
   if (n < static_cast<size_t>(k) + 1 || !(p.s0_mm > 0.0)) return n;
 
-  const LayerCloud cloud{pts, n};
-  const KdTree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
-  compute_spacing(tree, pts, n, k, p.s0_mm, ws.spacing_mm);
-  sample_cells(tree, pts, n, ws);
+  const NeighbourGrid grid(pts, n, k, ws);
+  compute_spacing(grid, pts, n, k, p.s0_mm, ws.spacing_mm);
+  sample_cells(grid, pts, n, ws);
   return compact_kept(pts, n, ws.state);
 }
 

@@ -46,17 +46,32 @@
 //    whole (sorted into canonical order). Such a layer is far too small for
 //    the area fit anyway; thinning it would only lose information.
 //  * Non-finite points (NaN / inf) are removed first: they would break the
-//    strict ordering of the canonical sort and the kd-tree.
+//    strict ordering of the canonical sort and the neighbour grid.
 //  * Order independence: the points are sorted lexicographically by (x, y)
 //    (after turning -0.0 into +0.0) before anything else, so any permutation
 //    of the same points gives the same bits out.
 //
-// Memory: no heap allocation of our own. The caller passes a Workspace with
-// workspace_bytes_per_point() = 13 bytes per point (a double spacing, a state
-// byte, a uint32 candidate index). The nanoflann kd-tree built once per call
-// does allocate (its index vector, n * 4 bytes, and its node pool, about
-// n/10 nodes): accepted at finish time; it may throw std::bad_alloc, which
-// the session catches at the ABI.
+// Neighbour search: a hashed uniform grid over the layer, built per layer in
+// the Workspace (counting sort of point indices by cell). It replaced a
+// nanoflann kd-tree, which allocated per layer (index vector, node pool),
+// throws, and so could not build for the MCU (no exceptions, no heap). The
+// grid is exact: the kNN of a point are searched ring by ring of cells until
+// no unvisited cell can hold a nearer point, and d_i is the sum of the k + 1
+// smallest distances (the point itself included, at 0) taken in ascending
+// order, divided by k: a function of the distance multiset only, so which of
+// several equidistant points is "the k-th" cannot change a bit (the kd-tree
+// gave the same d_i bit for bit). The square of step 3.5.3 gathers its
+// candidates from the cells it overlaps and sorts them by canonical index
+// before the centroid is summed, so the kept point does not depend on the
+// search structure's visiting order either. Cell side: (w + h) (k + 1) / n
+// for a w x h bounding box, about k + 1 points per cell along a contour;
+// cell ids hash into a power-of-two table of at most n buckets.
+//
+// Memory: no heap allocation at all. The caller passes a Workspace with
+// workspace_bytes_per_point() = 21 bytes per point (a double spacing, a
+// state byte, a uint32 candidate index, a uint32 grid item and a uint32
+// bucket start), plus one bucket start and alignment slack per block
+// (workspace_bytes), carved from the session block.
 #ifndef PV_THINNING_ADAPTIVE_THINNING_H
 #define PV_THINNING_ADAPTIVE_THINNING_H
 
@@ -83,10 +98,12 @@ struct Workspace {
   double *spacing_mm = nullptr;   // s_i per point (also holds d_i on the way)
   uint8_t *state = nullptr;       // 0 = unhandled, 1 = kept, 2 = sampled away
   uint32_t *candidates = nullptr; // indices of the unhandled points of one square
+  uint32_t *grid_items = nullptr; // point indices grouped by grid bucket
+  uint32_t *grid_start = nullptr; // bucket b holds grid_items[start[b], start[b+1])
   size_t capacity = 0;
 };
 
-// Bytes of Workspace per point (13).
+// Bytes of Workspace per point (21).
 size_t workspace_bytes_per_point();
 // Bytes of one raw block that make_workspace() can carve for n points
 // (per-point bytes plus alignment slack).
@@ -108,6 +125,10 @@ size_t thin_layer(XY *pts, size_t n, const Params &p, const Workspace &ws);
 size_t canonicalize(XY *pts, size_t n);
 // s_i from rho_i per the paper's mapping, clamped to [0.5 s0, 2 s0].
 double spacing_from_density(double rho, double rho_min, double rho_max, double s0_mm);
+// Step 3.5.1 alone, for the tests: d_i (floored at kMinMeanDistMm) of every
+// point of pts[0..n), which must be canonical (see canonicalize), into
+// d_mm[0..n), using ws's grid. False if ws is too small or n < k + 1.
+bool mean_knn_distances(const XY *pts, size_t n, uint32_t k, const Workspace &ws, double *d_mm);
 
 }  // namespace thinning
 }  // namespace pv

@@ -174,7 +174,52 @@ void test_non_finite_dropped_and_small_workspace(void **) {
   unsigned char tiny[8];
   th::Workspace ws;
   assert_false(th::make_workspace(tiny, sizeof tiny, 100, &ws));
-  assert_int_equal(th::workspace_bytes_per_point(), 13);
+  assert_int_equal(th::workspace_bytes_per_point(), 21);
+}
+
+// Independent truth for the neighbour grid: brute force over all pairs, the
+// k + 1 smallest squared distances summed as square roots in ascending
+// order, divided by k. Must agree to the bit, on rings, on a lattice (many
+// exactly equal distances), with duplicates and with a lone far point.
+std::vector<double> brute_force_knn_mean(const std::vector<XY> &v, uint32_t k) {
+  std::vector<double> out(v.size()), d2(v.size());
+  for (size_t i = 0; i < v.size(); ++i) {
+    for (size_t j = 0; j < v.size(); ++j) {
+      const double dx = v[i].x_mm - v[j].x_mm, dy = v[i].y_mm - v[j].y_mm;
+      d2[j] = dx * dx + dy * dy;
+    }
+    std::partial_sort(d2.begin(), d2.begin() + k + 1, d2.end());
+    double sum = 0.0;
+    for (uint32_t j = 0; j <= k; ++j) sum += std::sqrt(d2[j]);
+    out[i] = std::max(sum / static_cast<double>(k), th::kMinMeanDistMm);
+  }
+  return out;
+}
+
+void check_knn_against_brute_force(std::vector<XY> v, uint32_t k) {
+  v.resize(th::canonicalize(v.data(), v.size()));
+  Ws w(v.size());
+  std::vector<double> got(v.size());
+  assert_true(th::mean_knn_distances(v.data(), v.size(), k, w.ws, got.data()));
+  const std::vector<double> want = brute_force_knn_mean(v, k);
+  assert_memory_equal(got.data(), want.data(), v.size() * sizeof(double));
+}
+
+void test_knn_grid_is_exact(void **) {
+  check_knn_against_brute_force(noisy_ring(1500, 110.0, 0.1, 0.9, 21), 8);
+  check_knn_against_brute_force(noisy_ring(700, 50.0, 2.0, 0.0, 22), 3);
+  std::vector<XY> lattice;  // 0.5 mm lattice: ties at every distance
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 20; ++j) lattice.push_back(XY{0.5 * i, 0.5 * j});
+  check_knn_against_brute_force(lattice, 8);
+  check_knn_against_brute_force(lattice, 32);
+  std::vector<XY> dup = noisy_ring(300, 110.0, 0.1, 0.0, 23);
+  dup.insert(dup.end(), dup.begin(), dup.begin() + 100);
+  dup.push_back(XY{1000.0, -1000.0});  // far outlier: a search across the grid
+  check_knn_against_brute_force(dup, 8);
+  std::vector<XY> line;  // degenerate extent in y
+  for (int i = 0; i < 200; ++i) line.push_back(XY{0.37 * i, 2.0});
+  check_knn_against_brute_force(line, 8);
 }
 
 void test_spacing_mapping(void **) {
@@ -196,6 +241,7 @@ int main(void) {
       cmocka_unit_test(test_duplicates),
       cmocka_unit_test(test_non_finite_dropped_and_small_workspace),
       cmocka_unit_test(test_spacing_mapping),
+      cmocka_unit_test(test_knn_grid_is_exact),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
