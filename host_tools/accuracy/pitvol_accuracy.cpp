@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -140,16 +141,25 @@ struct Stats {
   }
 };
 
+const char kUsage[] =
+    "usage: pitvol-accuracy CORPUS_DIR [--markdown] [--method NAME ...]\n"
+    "                       [--write-expected FILE] [--check FILE]\n"
+    "       pitvol-accuracy --help\n";
+
 int usage() {
-  std::fprintf(stderr,
-               "usage: pitvol-accuracy CORPUS_DIR [--markdown] [--method NAME ...]\n"
-               "                       [--write-expected FILE] [--check FILE]\n");
+  std::fputs(kUsage, stderr);
   return 2;
 }
 
 }  // namespace
 
 int main(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+  }
   if (argc < 2) return usage();
   const std::string dir = argv[1];
   std::vector<std::string> methods;
