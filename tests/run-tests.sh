@@ -14,3 +14,9 @@ ctest --preset default -j "$jobs"
 cmake --preset debug >/dev/null
 cmake --build --preset debug -j "$jobs"
 ctest --preset debug -j "$jobs" -L unit
+
+# libFuzzer harnesses (fuzz/, clang-14 + ASan + UBSan): a fixed number of
+# executions each from the committed seeds (label fuzz; docs/reliability.md).
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz -j "$jobs"
+ctest --preset fuzz -j "$jobs"

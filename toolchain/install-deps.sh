@@ -12,6 +12,7 @@ packages=(
   libembree-dev      # ray casting in the scanner simulator (host only)
   libusb-1.0-0-dev   # the scanner's USB driver (drivers/usb)
   umockdev libumockdev-dev  # emulated USB scanner for the usb tests
+  clang-14 libfuzzer-14-dev libclang-rt-14-dev  # fuzz/: libFuzzer + ASan/UBSan runtimes
   "$@"
 )
 
