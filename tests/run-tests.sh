@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every test: install what is missing, build the Release preset and run all
-# CTest labels (unit, corpus), then the Debug preset with ASan + UBSan and
-# run the unit tests there.
+# CTest labels (unit, corpus, usb, cli), then the Debug preset with ASan +
+# UBSan and run them there, then the fuzz harnesses.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 toolchain/install-deps.sh
@@ -13,7 +13,10 @@ ctest --preset default -j "$jobs"
 
 cmake --preset debug >/dev/null
 cmake --build --preset debug -j "$jobs"
-ctest --preset debug -j "$jobs" -L unit
+# Every label under the sanitizers; the corpus label reads the Release
+# corpus (PITVOL_CORPUS_DIR) instead of generating it again, and checks
+# every 6th scan (tests/corpus/CMakeLists.txt).
+ctest --preset debug -j "$jobs" -L 'unit|usb|corpus|cli' -E '^corpus_generate$' --fixture-exclude-setup pv_corpus
 
 # libFuzzer harnesses (fuzz/, clang-14 + ASan + UBSan): a fixed number of
 # executions each from the committed seeds (label fuzz; docs/reliability.md).
