@@ -48,7 +48,7 @@ int main(int argc, char **argv) {
     return 0;
   }
   if (argc < 2 || std::strcmp(argv[1], "measure") != 0) return usage_error("expected a command: measure");
-  for (int i = 2; i < argc; ++i) {
+  for (int i = 2; i < argc && std::strcmp(argv[i], "--") != 0; ++i) {
     if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
       std::printf("%s", kUsage);
       return 0;
