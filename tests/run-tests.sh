@@ -1,9 +1,16 @@
 #!/usr/bin/env bash
-# Every test: install what is missing, build the Release preset and run all
-# CTest labels (unit, corpus), then the Debug preset with ASan + UBSan and
-# run the unit tests there; then the board (aarch64, under qemu-aarch64) and
-# MCU (Cortex-M7, under qemu-system-arm) builds, their tests and the
-# same-bits comparison with the Release build (docs/targets.md).
+# Every test: install what is missing, then
+#  1. Release (build/): every CTest label registered by default (unit,
+#     corpus, usb, cli, serial, e2e);
+#  2. Debug with ASan + UBSan (build-debug/): unit, usb, cli and a sixth of
+#     the corpus, under the sanitizers (label slow stays in Release);
+#  3. the libFuzzer harnesses, a fixed number of executions each (fuzz);
+#  4. the board (aarch64, tests under qemu-aarch64) and MCU (Cortex-M7,
+#     under qemu-system-arm) builds, their tests and the same-bits
+#     comparison with the Release build (docs/targets.md);
+#  5. cppcheck and the size report.
+# Labels CI skips (docs/reliability.md, docs/accuracy.md): peers, soak,
+# holdout, stress, slow under the sanitizers, long fuzzing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 toolchain/install-deps.sh --cross
@@ -15,13 +22,22 @@ ctest --preset default -j "$jobs"
 
 cmake --preset debug >/dev/null
 cmake --build --preset debug -j "$jobs"
-ctest --preset debug -j "$jobs" -L unit
+# The corpus label reads the Release corpus (PITVOL_CORPUS_DIR) instead of
+# generating it again, and checks every 6th scan (tests/corpus/CMakeLists.txt).
+ctest --preset debug -j "$jobs" -L 'unit|usb|corpus|cli' -LE slow \
+  -E '^corpus_generate$' --fixture-exclude-setup pv_corpus
+
+# libFuzzer harnesses (fuzz/, clang-14 + ASan + UBSan): a fixed number of
+# executions each from the committed seeds (label fuzz; docs/reliability.md).
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz -j "$jobs"
+ctest --preset fuzz -j "$jobs"
 
 # Board and MCU: after the Release tests, which generate the corpus scans
 # the bits tests replay.
 cmake --preset board >/dev/null
 cmake --build --preset board -j "$jobs"
-ctest --preset board -j "$jobs" -L 'unit|bits'
+ctest --preset board -j "$jobs" -L 'unit|bits' -LE slow
 cmake --preset mcu >/dev/null
 cmake --build --preset mcu -j "$jobs"
 ctest --preset mcu -j "$jobs" -L mcu

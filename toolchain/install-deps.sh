@@ -22,6 +22,7 @@ packages=(
   libpng-dev            # the board display's PNG backend (drivers/display)
   console-setup-linux   # Terminus console fonts embedded in pitvol-board
   nanopb libnanopb-dev      # serial link messages (firmware/link/pitvol_link.proto)
+  clang-14 libfuzzer-14-dev libclang-rt-14-dev  # fuzz/: libFuzzer + ASan/UBSan runtimes
   "$@"
 )
 if [ $cross -eq 1 ]; then

@@ -36,6 +36,13 @@ namespace {
 
 bool in_range(float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 
+// Point slots (layers x points per layer) cost 16 B each in the block (the
+// stored point and its place in the finish-time order). 2^26 slots are
+// about 1 GiB, 50 times the default: beyond that a configuration is a
+// mistake, refused here with its field name instead of failing later at
+// allocation (a block of tens of GB).
+constexpr uint64_t kMaxPointSlots = 1ull << 26;
+
 }  // namespace
 
 extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **field_out) {
@@ -45,7 +52,7 @@ extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **f
       cfg->method != PV_METHOD_SURFACE) bad = "method";
   else if (cfg->max_layers < 64 || cfg->max_layers > 65536) bad = "max_layers";
   else if (cfg->points_per_layer < 64 || cfg->points_per_layer > (1u << 20)) bad = "points_per_layer";
-  else if (uint64_t(cfg->max_layers) * cfg->points_per_layer > (1ull << 31)) bad = "points_per_layer";
+  else if (uint64_t(cfg->max_layers) * cfg->points_per_layer > kMaxPointSlots) bad = "points_per_layer";
   else if (cfg->level_sample_points < 256 || cfg->level_sample_points > (1u << 20)) bad = "level_sample_points";
   else if (cfg->warmup_points < 256 || cfg->warmup_points > (1u << 24)) bad = "warmup_points";
   else if (!in_range(cfg->layer_mm, 0.1f, 2.0f)) bad = "layer_mm";

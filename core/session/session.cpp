@@ -1,8 +1,9 @@
 // The C ABI of the core: session lifecycle and the ingest path.
 //
-// push() is the hot path: per point a validity check, a hash, a sample
-// offer, a levelled height and a bin insert. It never allocates; the plane
-// refinement it triggers now and then works in preallocated scratch.
+// push() is the hot path: per point a validity check, a duplicate check, a
+// hash, a sample offer, a levelled height and a bin insert. It never
+// allocates; the plane refinement it triggers now and then works in
+// preallocated scratch.
 #include <cmath>
 #include <cstring>
 #include <new>
@@ -54,7 +55,7 @@ void refine(pv_session *s) {
   // On failure keep the previous transform (identity at first): binning
   // still works, only the bins' thinning is less even until the next try.
   s->have_transform = true;
-  s->next_refine_at = s->points_in * 4;
+  s->next_refine_at = s->points_accepted * 4;
 }
 
 }  // namespace
@@ -97,6 +98,8 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->lv.c = cv.take<Eigen::Vector3d>(k);
   o->lv.v = cv.take<double>(k);
   o->warmup = cv.take<P3>(c.warmup_points);
+  void *dup_mem = cv.take<uint64_t>(binning::DuplicateFilter::bytes_needed() / sizeof(uint64_t));
+  if (block != nullptr) o->duplicates.init(dup_mem);
 
   void *bins_mem = cv.take<unsigned char>(binning::LayerBins::bytes_needed(layers, c.points_per_layer));
   if (block != nullptr) o->bins.init(bins_mem, layers, c.points_per_layer);
@@ -140,6 +143,8 @@ namespace {
 void reset_counters(pv_session *s) {
   s->finished = false;
   s->points_in = s->points_invalid = s->points_out_of_range = 0;
+  s->points_duplicate = s->points_accepted = 0;
+  s->duplicates.clear();
   s->sample.clear();
   session::set_provisional(s, levelling::Transform{});
   s->have_transform = false;
@@ -190,23 +195,34 @@ extern "C" pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size
 extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points, size_t count) {
   if (s == nullptr || (points == nullptr && count > 0)) return PV_ERR_INVALID_ARGUMENT;
   if (s->finished) return PV_ERR_WRONG_STATE;
-  for (size_t i = 0; i < count; ++i) {
-    const pv_point_t &q = points[i];
-    ++s->points_in;
-    if (!session::valid_point(q)) {
-      ++s->points_invalid;
-      continue;
+  // The duplicate filter works on small batches (its table lookups overlap).
+  constexpr size_t kBatch = binning::DuplicateFilter::kBatch;
+  for (size_t base = 0; base < count; base += kBatch) {
+    const size_t m = count - base < kBatch ? count - base : kBatch;
+    const uint64_t duplicate = s->duplicates.filter_batch(points + base, m);
+    for (size_t k = 0; k < m; ++k) {
+      const pv_point_t &q = points[base + k];
+      ++s->points_in;
+      if (!session::valid_point(q)) {
+        ++s->points_invalid;
+        continue;
+      }
+      if (duplicate >> k & 1) {
+        ++s->points_duplicate;
+        continue;
+      }
+      ++s->points_accepted;
+      const P3 p{q.x_mm, q.y_mm, q.z_mm};
+      const uint64_t h = point_hash(p);
+      s->sample.offer(p, h);
+      if (!s->have_transform) {
+        s->warmup[s->warmup_count++] = p;
+        if (s->warmup_count == s->cfg.warmup_points) session::establish_transform(s);
+        continue;
+      }
+      session::bin_point(s, p, h);
+      if (s->points_accepted >= s->next_refine_at) session::refine(s);
     }
-    const P3 p{q.x_mm, q.y_mm, q.z_mm};
-    const uint64_t h = point_hash(p);
-    s->sample.offer(p, h);
-    if (!s->have_transform) {
-      s->warmup[s->warmup_count++] = p;
-      if (s->warmup_count == s->cfg.warmup_points) session::establish_transform(s);
-      continue;
-    }
-    session::bin_point(s, p, h);
-    if (s->points_in >= s->next_refine_at) session::refine(s);
   }
   return PV_OK;
 }

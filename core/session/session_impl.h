@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "binning/duplicate_filter.h"
 #include "binning/layer_bins.h"
 #include "common/geometry.h"
 #include "gridding/gridding.h"
@@ -89,6 +90,11 @@ struct pv_session {
   uint64_t points_in;
   uint64_t points_invalid;
   uint64_t points_out_of_range;
+  // Resent points (binning/duplicate_filter.h) are counted in points_in and
+  // here, and go no further; the refinement schedule counts the rest.
+  uint64_t points_duplicate;
+  uint64_t points_accepted;  // valid and not a duplicate
+  pv::binning::DuplicateFilter duplicates;
 
   // Levelling: order-independent sample, provisional transform.
   pv::levelling::HashSample sample;

@@ -152,14 +152,24 @@ std::string fmt(const char *f, double v) {
   return buf;
 }
 
+const char kUsage[] =
+    "usage: pitvol-bench [--markdown] [--ingest-points N] [--scan-points N]\n"
+    "       pitvol-bench --help\n";
+
 int usage() {
-  std::fprintf(stderr, "usage: pitvol-bench [--markdown] [--ingest-points N] [--scan-points N]\n");
+  std::fputs(kUsage, stderr);
   return 2;
 }
 
 }  // namespace
 
 int main(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+  }
   bool markdown = false;
   size_t ingest_points = 4000000, scan_points = 400000;
   std::string cmdline;

@@ -3,7 +3,11 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
+#include <sys/stat.h>
+
+#include <cstdio>
+#include <cstring>
+#include <sstream>
 
 namespace pv::tools {
 
@@ -47,14 +51,77 @@ std::string trim(const std::string &s) {
   return s.substr(a, b - a + 1);
 }
 
+std::string number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+// "setting 'X' = V is out of range", with the numbers that make it so.
+std::string out_of_range_message(const pv_config_t &cfg, const char *bad) {
+  const std::string name = bad ? bad : "?";
+  std::string value;
+  for (const Field &c : kFields) {
+    if (name != c.name) continue;
+    value = c.u ? std::to_string(cfg.*(c.u)) : number(double(cfg.*(c.f)));
+  }
+  std::string msg = "setting '" + name + "'" + (value.empty() ? "" : " = " + value) + " is out of range";
+  const uint64_t slots = uint64_t(cfg.max_layers) * cfg.points_per_layer;
+  if (name == "points_per_layer" && cfg.points_per_layer >= 64 && cfg.points_per_layer <= (1u << 20)) {
+    // In range alone: the product with max_layers is what is too large.
+    msg += ": max_layers x points_per_layer = " + std::to_string(slots) +
+           " point slots would need about " + std::to_string(slots * 16 >> 20) +
+           " MiB of session memory; the limit is 67108864 slots (1 GiB): lower one of them";
+  } else {
+    msg += " (docs/method.md gives the allowed ranges)";
+  }
+  return msg;
+}
+
+// A configuration file is a few dozen short lines. Reading is bounded so
+// that /dev/zero, a FIFO or a huge file cannot make the tool grow without
+// limit: the first kMaxConfigBytes + 1 bytes decide.
+constexpr size_t kMaxConfigBytes = 64 * 1024;
+constexpr size_t kMaxLineBytes = 1024;
+
+bool read_bounded(const std::string &path, std::string *text, std::string *error) {
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0) {
+    *error = path + ": cannot open the configuration file (" + std::strerror(errno) + ")";
+    return false;
+  }
+  if (S_ISDIR(st.st_mode)) {
+    *error = path + ": is a directory, not a configuration file";
+    return false;
+  }
+  FILE *f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) {
+    *error = path + ": cannot open the configuration file (" + std::strerror(errno) + ")";
+    return false;
+  }
+  text->assign(kMaxConfigBytes + 1, '\0');
+  const size_t n = std::fread(&(*text)[0], 1, text->size(), f);
+  const bool read_error = std::ferror(f) != 0;
+  std::fclose(f);
+  if (read_error) {
+    *error = path + ": cannot read the configuration file";
+    return false;
+  }
+  if (n > kMaxConfigBytes) {
+    *error = path + ": larger than " + std::to_string(kMaxConfigBytes) +
+             " bytes; a configuration file is a few 'key = value' lines";
+    return false;
+  }
+  text->resize(n);
+  return true;
+}
+
 }  // namespace
 
 bool load_config_file(const std::string &path, pv_config_t *cfg, std::string *error) {
-  std::ifstream in(path);
-  if (!in) {
-    *error = path + ": cannot open the configuration file";
-    return false;
-  }
+  std::string text;
+  if (!read_bounded(path, &text, error)) return false;
+  std::istringstream in(text);
   std::string line;
   int lineno = 0;
   auto fail = [&](const std::string &what) {
@@ -63,6 +130,12 @@ bool load_config_file(const std::string &path, pv_config_t *cfg, std::string *er
   };
   while (std::getline(in, line)) {
     ++lineno;
+    if (line.size() > kMaxLineBytes) {
+      return fail("line longer than " + std::to_string(kMaxLineBytes) + " bytes");
+    }
+    if (line.find('\0') != std::string::npos) {
+      return fail("contains a NUL byte; a configuration file is text");
+    }
     const size_t hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
     line = trim(line);
@@ -99,8 +172,7 @@ bool load_config_file(const std::string &path, pv_config_t *cfg, std::string *er
   }
   const char *bad = nullptr;
   if (pv_config_validate(cfg, &bad) != PV_OK) {
-    *error = path + ": setting '" + std::string(bad ? bad : "?") +
-             "' is out of range (docs/method.md gives the allowed ranges)";
+    *error = path + ": " + out_of_range_message(*cfg, bad);
     return false;
   }
   return true;

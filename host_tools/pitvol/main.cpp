@@ -4,6 +4,7 @@
 //                       [--method paper] [--format ply|xyz|asc|csv|pcd]
 //                       [--no-progress]
 //   pitvol --version | --help
+//   pitvol measure --help
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -24,6 +25,8 @@ const char kUsage[] =
     "  --format NAME       ply, pcd, xyz, asc, csv (default: by extension)\n"
     "  --no-progress       no progress line on stderr\n"
     "  --layers FILE       write area against height per layer (CSV)\n"
+    "  --help              this text\n"
+    "  a FILE starting with '-': write ./-name, or put it after --\n"
     "exit codes: 0 measured, 2 usage, 3 unreadable or invalid input,\n"
     "            4 the scan cannot support a measurement, 5 internal error\n";
 
@@ -45,14 +48,26 @@ int main(int argc, char **argv) {
     return 0;
   }
   if (argc < 2 || std::strcmp(argv[1], "measure") != 0) return usage_error("expected a command: measure");
+  for (int i = 2; i < argc && std::strcmp(argv[i], "--") != 0; ++i) {
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::printf("%s", kUsage);
+      return 0;
+    }
+  }
 
   MeasureOptions opt;
   pv_config_default(&opt.cfg);
   std::string config_path, method;
+  bool only_files = false;  // after "--", every argument is a file name
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
-    if (a == "--json") {
+    if (only_files || a.empty() || a[0] != '-') {
+      if (!opt.path.empty()) return usage_error("more than one input file given");
+      opt.path = a;
+    } else if (a == "--") {
+      only_files = true;
+    } else if (a == "--json") {
       opt.json = true;
     } else if (a == "--no-progress") {
       opt.progress = false;
@@ -72,12 +87,9 @@ int main(int argc, char **argv) {
       const std::string f = argv[++i];
       opt.format = pv::scanio::format_from_name(f);
       if (opt.format == pv::scanio::Format::Auto) return usage_error("unknown --format '" + f + "'");
-    } else if (a.rfind("--", 0) == 0) {
-      return usage_error("unknown or incomplete option '" + a + "'");
-    } else if (opt.path.empty()) {
-      opt.path = a;
     } else {
-      return usage_error("more than one input file given");
+      // A file whose name starts with '-': ./-x or after "--".
+      return usage_error("unknown or incomplete option '" + a + "'");
     }
   }
   if (opt.path.empty()) return usage_error("no scan file given");

@@ -2,10 +2,12 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -94,22 +96,32 @@ class Progress {
 };
 
 // Area against height, one row per fitted layer: the profile a QA engineer
-// plots to see where a measurement went wrong.
-bool write_layers(const std::string &path, const pv_session_t *s) {
+// plots to see where a measurement went wrong. f was opened before the
+// measurement, so a bad path fails before the work, not after it.
+bool write_layers(FILE *f, const pv_session_t *s) {
   size_t n = 0;
-  pv_session_layers(s, nullptr, 0, &n);
   std::vector<pv_layer_info_t> layers(4096);
   if (pv_session_layers(s, layers.data(), layers.size(), &n) != PV_OK) return false;
-  FILE *f = std::fopen(path.c_str(), "w");
-  if (f == nullptr) return false;
   std::fprintf(f, "z_mm,area_mm2,points,kept,shape\n");
   for (size_t i = 0; i < n; ++i) {
     const pv_layer_info_t &l = layers[i];
     std::fprintf(f, "%.3f,%.3f,%u,%u,%s\n", double(l.z_mm), double(l.area_mm2), l.points,
                  unsigned(l.kept), l.shape ? "crescent" : "circular");
   }
-  return std::fclose(f) == 0;
+  return std::ferror(f) == 0;
 }
+
+struct OutFile {
+  FILE *f = nullptr;
+  ~OutFile() {
+    if (f != nullptr) std::fclose(f);
+  }
+  bool close() {
+    FILE *g = f;
+    f = nullptr;
+    return std::fclose(g) == 0;
+  }
+};
 
 struct SessionBlock {
   void *ptr = nullptr;
@@ -136,6 +148,16 @@ int run_measure(const MeasureOptions &opt) {
   scanio::Error err;
   std::unique_ptr<scanio::ScanReader> reader = scanio::open_scan(opt.path, opt.format, &err);
   if (!reader) return input_error(opt, err);
+
+  OutFile layers;
+  if (!opt.layers_csv.empty()) {
+    layers.f = std::fopen(opt.layers_csv.c_str(), "w");
+    if (layers.f == nullptr) {
+      std::fprintf(stderr, "pitvol: cannot write --layers %s: %s\n", opt.layers_csv.c_str(),
+                   std::strerror(errno));
+      return kExitUsage;
+    }
+  }
 
   size_t bytes = 0;
   if (pv_session_size(&opt.cfg, &bytes) != PV_OK) {
@@ -180,8 +202,10 @@ int run_measure(const MeasureOptions &opt) {
   pv_result_t r{};
   const pv_status_t st = pv_session_finish(session, &r);
   const double finish_ms = ms_since(t_finish);
-  if (!opt.layers_csv.empty() && !write_layers(opt.layers_csv, session)) {
-    std::fprintf(stderr, "pitvol: cannot write %s\n", opt.layers_csv.c_str());
+  bool layers_written = true;
+  if (layers.f != nullptr) {
+    layers_written = write_layers(layers.f, session);
+    layers_written = layers.close() && layers_written;
   }
   const double total_ms = ms_since(t_start);
 
@@ -212,12 +236,13 @@ int run_measure(const MeasureOptions &opt) {
     for (const std::string &w : warnings) std::fprintf(stderr, "pitvol: warning: %s\n", w.c_str());
   }
   if (!ok) {
-    std::fprintf(stderr, "pitvol: no measurement (%s): %s\n", pv_status_name(st), pv_status_message(st));
-    if (st == PV_ERR_WALL_GAP) {
-      std::fprintf(stderr, "pitvol: the wall from %.1f mm to %.1f mm above the bottom has no usable outline\n",
-                   r.gap_from_mm, r.gap_to_mm);
-    }
+    print_refusal(stderr, "pitvol", st, r);
     return (st == PV_ERR_INTERNAL || st == PV_ERR_OUT_OF_MEMORY) ? kExitInternal : kExitNoMeasurement;
+  }
+  if (!layers_written) {
+    std::fprintf(stderr, "pitvol: writing --layers %s failed (disk full?); the result above is valid\n",
+                 opt.layers_csv.c_str());
+    return kExitInternal;
   }
   return kExitOk;
 }

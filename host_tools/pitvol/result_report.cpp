@@ -51,4 +51,12 @@ void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method
   std::fprintf(f, "method         %s (pitvol %s)\n", pv_method_name(method), PV_VERSION_STRING);
 }
 
+void print_refusal(std::FILE *f, const char *tool, pv_status_t st, const pv_result_t &r) {
+  std::fprintf(f, "%s: no measurement (%s): %s\n", tool, pv_status_name(st), pv_status_message(st));
+  if (st == PV_ERR_WALL_GAP) {
+    std::fprintf(f, "%s: the wall from %.1f mm to %.1f mm above the bottom has no usable outline\n",
+                 tool, r.gap_from_mm, r.gap_to_mm);
+  }
+}
+
 }  // namespace pv::tools

@@ -20,6 +20,9 @@ void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured);
 std::string coverage_json(const pv_result_t &r);
 // The lines "pit volume ... method ..." of a successful measurement.
 void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method);
+// "TOOL: no measurement (STATUS): message" and, where the result names
+// them, the numbers behind the refusal (e.g. the wall gap's heights).
+void print_refusal(std::FILE *f, const char *tool, pv_status_t st, const pv_result_t &r);
 
 }  // namespace pv::tools
 

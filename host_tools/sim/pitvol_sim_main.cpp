@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <exception>
 #include <string>
@@ -25,14 +26,17 @@ namespace {
 
 using namespace pv::sim;
 
+const char kUsage[] =
+    "usage: pitvol-sim scan --family NAME [--no-ground] [--seed S] [--points N]\n"
+    "                       [--noise MM] [--tilt MAX_DEG] [--arc DEG] [--dropouts N]\n"
+    "                       [--ground-tilt DEG] [--depth MM] --out PREFIX\n"
+    "       pitvol-sim corpus [--set standard|holdout|stress] --out DIR\n"
+    "       pitvol-sim families\n"
+    "       pitvol-sim --help\n";
+
 int usage(const char *why) {
   if (why) std::fprintf(stderr, "pitvol-sim: %s\n", why);
-  std::fprintf(stderr,
-               "usage: pitvol-sim scan --family NAME [--no-ground] [--seed S] [--points N]\n"
-               "                       [--noise MM] [--tilt MAX_DEG] [--arc DEG] [--dropouts N]\n"
-               "                       [--ground-tilt DEG] [--depth MM] --out PREFIX\n"
-               "       pitvol-sim corpus [--set standard|holdout|stress] --out DIR\n"
-               "       pitvol-sim families\n");
+  std::fputs(kUsage, stderr);
   return 2;
 }
 
@@ -114,6 +118,12 @@ bool parse_num(const char *s, double *out) {
 }  // namespace
 
 int run(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+  }
   if (argc < 2) return usage(nullptr);
   const std::string cmd = argv[1];
   if (cmd == "families") {

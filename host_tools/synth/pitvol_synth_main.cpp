@@ -12,10 +12,13 @@
 
 namespace {
 
+const char kUsage[] =
+    "usage: pitvol-synth OUT.ply [--points N] [--seed S] [--radius MM]\n"
+    "                    [--depth MM] [--tilt DEG] [--no-ground] [--upside-down]\n"
+    "       pitvol-synth --help\n";
+
 int usage() {
-  std::fprintf(stderr,
-               "usage: pitvol-synth OUT.ply [--points N] [--seed S] [--radius MM]\n"
-               "                    [--depth MM] [--tilt DEG] [--no-ground] [--upside-down]\n");
+  std::fputs(kUsage, stderr);
   return 2;
 }
 
@@ -28,6 +31,12 @@ bool parse_double(const char *s, double *out) {
 }  // namespace
 
 int main(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+  }
   if (argc < 2) return usage();
   const char *path = nullptr;
   long long points = 300000;

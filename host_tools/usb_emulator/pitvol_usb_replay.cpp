@@ -48,14 +48,17 @@ void on_points(void *user, const pv_usb_frame_header_t *, const pv_point_t *pts,
   pv_session_push(s->session, pts, n);
 }
 
+const char kUsage[] =
+    "usage: pitvol-usb-replay FILE.frames [--json] [--bench] [--corrupt RATE] [--drop RATE]\n"
+    "         [--duplicate RATE] [--seed S] [--stall-at-frame N] [--stall-at-byte B]\n"
+    "         [--short-reads] [--unplug-at-frame N] [--replug-after MS] [--fps F]\n"
+    "         [--timeout S]\n"
+    "       pitvol-usb-replay --help\n"
+    "       (runs itself under umockdev-wrapper)\n";
+
 int usage(const char *why) {
   if (why != nullptr) std::fprintf(stderr, "pitvol-usb-replay: %s\n", why);
-  std::fprintf(stderr,
-               "usage: pitvol-usb-replay FILE.frames [--json] [--bench] [--corrupt RATE] [--drop RATE]\n"
-               "         [--duplicate RATE] [--seed S] [--stall-at-frame N] [--stall-at-byte B]\n"
-               "         [--short-reads] [--unplug-at-frame N] [--replug-after MS] [--fps F]\n"
-               "         [--timeout S]\n"
-               "       (runs itself under umockdev-wrapper)\n");
+  std::fputs(kUsage, stderr);
   return 2;
 }
 
@@ -83,6 +86,12 @@ struct SessionBlock {
 }  // namespace
 
 int main(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+  }
   if (argc < 2) return usage(nullptr);
   if (!pv_emu_available() && std::getenv("PITVOL_USB_REPLAY_NO_REEXEC") == nullptr) {
     // The emulator needs libumockdev-preload: run again under the wrapper.
@@ -290,8 +299,7 @@ int main(int argc, char **argv) {
     return 3;
   }
   if (st != PV_OK) {
-    std::fprintf(stderr, "pitvol-usb-replay: no measurement (%s): %s\n", pv_status_name(st),
-                 pv_status_message(st));
+    pv::tools::print_refusal(stderr, "pitvol-usb-replay", st, r);
     return (st == PV_ERR_INTERNAL || st == PV_ERR_OUT_OF_MEMORY) ? 5 : 4;
   }
   return 0;
