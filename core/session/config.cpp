@@ -30,6 +30,7 @@ extern "C" void pv_config_default(pv_config_t *cfg) {
   cfg->mad_k_late = 3.5f;
   cfg->mad_split_mm = 30.0f;
   cfg->max_unseen_share = 0.30f;   // docs/method.md (method surface)
+  cfg->max_opening_tilt_deg = 90.0f;  // docs/reliability.md (plausibility)
 }
 
 namespace {
@@ -72,6 +73,7 @@ extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **f
   else if (!in_range(cfg->mad_k_late, 0.5f, 100.0f)) bad = "mad_k_late";
   else if (!in_range(cfg->mad_split_mm, 0.0f, 1000.0f)) bad = "mad_split_mm";
   else if (!in_range(cfg->max_unseen_share, 0.0f, 1.0f)) bad = "max_unseen_share";
+  else if (!in_range(cfg->max_opening_tilt_deg, 0.0f, 180.0f)) bad = "max_opening_tilt_deg";
   if (field_out != nullptr) *field_out = bad;
   return bad == nullptr ? PV_OK : PV_ERR_INVALID_CONFIG;
 }

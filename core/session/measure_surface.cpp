@@ -11,6 +11,21 @@ namespace pv::session {
 
 namespace {
 
+// Plausibility: is this one open pit? (issue 9; measured on the standard,
+// held-out and stress sets and on hostile inputs, docs/reliability.md)
+// A point this far inside the wall, above the floor and below the rim is in
+// the void.
+constexpr double kInsideMarginMm = 5.0;
+// A pit's void holds multipath and strays: at most 6.5 % of the stored
+// points in the corpus (protrusions' block tops). A mound scanned upside
+// down, two pits, a random cloud or a trench wider than the grids: 26 % up.
+constexpr double kMaxInsideShare = 0.15;
+// The mouth: the section at the rim against the largest. Corpus: 0.947 at
+// least (bulges, hand-dug); a closed shell (a sphere): 0.10.
+constexpr double kMinMouthRatio = 0.5;
+// The opening faces the scanner, which looks down into the pit; a scan
+// whose opening faces away is a mound (or a scanner frame upside down:
+// pv_config_t.max_opening_tilt_deg).
 // Relative part of the interval for what bridging does not cover: the
 // levelling, the fit of seen bins (docs/method.md).
 constexpr double kBaseRelInterval = 0.0010;
@@ -61,6 +76,16 @@ void widest_unseen_band(const pv_result_t &r, double rim_mm, double *from, doubl
   }
 }
 
+bool plausible_pit(const surface::Occupancy &occ, double rim_area_mm2, double max_section_mm2,
+                   double tilt_deg, double max_tilt_deg) {
+  if (occ.points == 0) return false;
+  if (double(occ.inside) > kMaxInsideShare * double(occ.points)) return false;
+  if (!(rim_area_mm2 >= kMinMouthRatio * max_section_mm2)) return false;
+  // The wall reaches the edge of the grids: wider than the capacity.
+  if (occ.max_radius_mm > kSurfaceMaxRadiusMm - 5.0) return false;
+  return tilt_deg <= max_tilt_deg;
+}
+
 }  // namespace
 
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
@@ -89,6 +114,14 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
     const bool seen = prof.seen_share[i] >= 0.5f;
     s->layer_info[s->layer_info_count++] =
         pv_layer_info_t{prof.z_mm[i], prof.area_mm2[i], 0, uint8_t(seen ? 1 : 0), 0};
+  }
+  double max_section = 0;
+  for (size_t i = 0; i < prof.n; ++i) max_section = std::max(max_section, double(prof.area_mm2[i]));
+  const surface::Occupancy occ = surface::occupancy(src, s->surf, m, p, kInsideMarginMm);
+  if (!plausible_pit(occ, v.rim_area_mm2, max_section, out->tilt_deg,
+                     double(s->cfg.max_opening_tilt_deg))) {
+    out->status = PV_ERR_NOT_A_PIT;
+    return out->status;
   }
   out->coverage_bands = PV_COVERAGE_BANDS;
   surface::coverage(s->surf, m, p, PV_COVERAGE_BANDS, out->coverage);

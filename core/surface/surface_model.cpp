@@ -777,6 +777,50 @@ Volume integrate(const Workspace &ws, const Model &m, const Params &p, Profile *
   return v;
 }
 
+namespace {
+
+struct OccCtx {
+  const Workspace *ws;
+  const Model *m;
+  Geo g;
+  double margin;
+  Occupancy *o;
+};
+
+void occupancy_pass(void *c, const Point &q) {
+  auto *x = static_cast<OccCtx *>(c);
+  const Model &m = *x->m;
+  if (q.z >= m.rim_mm || q.z < m.z0_mm) return;
+  ++x->o->points;
+  if (q.z > m.rim_mm - x->margin) return;
+  const double dx = q.x - m.axis.cx(q.z), dy = q.y - m.axis.cy(q.z);
+  const double r = std::sqrt(dx * dx + dy * dy);
+  const uint32_t t = angle_bin(dx, dy, x->g.T);
+  if (r > radius_at(x->ws->wall_val, x->g, t, q.z) - x->margin) return;
+  const double fx = (q.x - x->g.fx0) / x->g.cell, fy = (q.y - x->g.fy0) / x->g.cell;
+  double floor_z = 0.0;
+  if (fx >= 0 && fy >= 0 && fx < x->g.C && fy < x->g.C) {
+    const FloorCell &f = x->ws->floor[size_t(uint32_t(fy)) * x->g.C + uint32_t(fx)];
+    if (f.state == kFloor) floor_z = f.value;
+  }
+  if (q.z < floor_z + x->margin) return;
+  ++x->o->inside;
+}
+
+}  // namespace
+
+Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
+                    const Params &p, double margin_mm) {
+  Occupancy o{0, 0, 0, 0};
+  OccCtx c{&ws, &m, geo_of(ws, m, p), margin_mm, &o};
+  src.visit(src.ctx, occupancy_pass, &c);
+  const size_t bins = size_t(ws.cap.theta_bins) * m.z_bins;
+  for (size_t i = 0; i < bins; ++i) {
+    if (ws.wall[i].state == kSeen) o.max_radius_mm = std::max(o.max_radius_mm, double(ws.wall_val[i]));
+  }
+  return o;
+}
+
 void coverage(const Workspace &ws, const Model &m, const Params &p, uint32_t bands,
               float *out) {
   const uint32_t T = ws.cap.theta_bins;

@@ -169,6 +169,20 @@ Volume integrate(const Workspace &ws, const Model &m, const Params &p,
                  Profile *profile = nullptr);
 
 // Share of wall bins seen per height band (bands equal parts of 0..rim).
+// Plausibility (is it one open pit?): the share of the points that lie
+// well inside the void (more than margin_mm inside the wall, above the
+// floor and below the rim). A pit's void holds only multipath and strays;
+// a mound scanned as a pit, or two surfaces stacked, fill it. Also the
+// largest wall radius, against the capacity of the grids.
+struct Occupancy {
+  uint64_t points;        // stored points below the rim
+  uint64_t inside;        // of those, inside the void by more than margin_mm
+  double max_radius_mm;   // largest seen wall radius
+  double max_section_mm2; // largest section (integration step), for the mouth
+};
+Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
+                    const Params &p, double margin_mm);
+
 // "Seen" counts bins bridged over at most short_gap_bins.
 void coverage(const Workspace &ws, const Model &m, const Params &p, uint32_t bands, float *out);
 

@@ -110,6 +110,11 @@ typedef struct pv_config {
   /* method surface (docs/method.md) */
   float max_unseen_share;       /* refuse (PV_ERR_WALL_GAP) when more of the
                                    volume than this rests on unseen wall */
+  float max_opening_tilt_deg;   /* the pit's opening must face within this
+                                   angle of the scanner frame's +Z (up, away
+                                   from the ground); else PV_ERR_NOT_A_PIT (a
+                                   mound). 180: a frame that may be upside
+                                   down, no check */
 } pv_config_t;
 
 /* Fills the paper's defaults and the default capacities (docs/method.md). */

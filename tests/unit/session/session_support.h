@@ -14,8 +14,10 @@ struct TestSession {
   size_t bytes = 0;
   void *block = nullptr;
   pv_session_t *s = nullptr;
-  TestSession() {
+  // tweak: adjusts the default configuration before the block is sized.
+  explicit TestSession(void (*tweak)(pv_config_t *) = nullptr) {
     pv_config_default(&cfg);
+    if (tweak != nullptr) tweak(&cfg);
     pv_session_size(&cfg, &bytes);
     block = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
     pv_session_init(&cfg, block, bytes, &s);
