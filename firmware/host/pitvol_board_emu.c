@@ -13,6 +13,10 @@
  *     --absent-for MS    no scanner at start; plugged in after MS
  *     --unplug-after MS  unplug MS after start, whatever the board is doing
  *                        (plugged back after --replug-after)
+ *     --serial-pty LINK  the serial link on a pseudo-terminal: the board
+ *                        holds the master side, LINK becomes a symlink to
+ *                        the slave side (pitvol-monitor LINK); the slave
+ *                        stays open here so monitors may come and go
  * Runs itself under umockdev-wrapper. At exit it prints the allocations
  * counted after start, per zone (board_alloc_zone.h).
  */
@@ -23,15 +27,27 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <pty.h>
 #include <unistd.h>
 
 #include "../board_alloc_zone.h"
 #include "../board_cli.h"
+#include "../board_link.h"
 #include "alloc_counter.h"
 #include "usb_emulator/emulated_scanner.h"
 
+static pv_board_link_t g_link;
+static int g_pty_master = -1;
+
+static int link_start(pv_board_app_t *app, char *err, size_t errcap) {
+  const int fd = g_pty_master;
+  g_pty_master = -1; /* the link owns it now */
+  return pv_board_link_start(&g_link, app, fd, err, errcap);
+}
+
 static void report_allocations(pv_board_app_t *app) {
   (void)app;
+  pv_board_link_stop(&g_link);
   printf("pitvol-board: allocations after start: board=%ld push=%ld usb=%ld measure=%ld\n",
          pv_alloc_count(PV_ZONE_BOARD), pv_alloc_count(PV_ZONE_PUSH), pv_alloc_count(PV_ZONE_USB),
          pv_alloc_count(PV_ZONE_MEASURE));
@@ -55,6 +71,7 @@ static int usage(const char *why) {
   fprintf(stderr,
           "usage: pitvol-board-emu FILE.frames [--fps F] [--unplug-at-frame N]\n"
           "         [--replug-after MS | --no-replug] [--absent-for MS] [--unplug-after MS]\n"
+          "         [--serial-pty LINK]\n"
           "         [pitvol-board options]\n");
   return 2;
 }
@@ -80,7 +97,7 @@ int main(int argc, char **argv) {
   }
   pv_board_block_signals(); /* before the emulator's threads exist */
 
-  const char *frames = NULL;
+  const char *frames = NULL, *pty_link = NULL;
   double fps = 20, absent_ms = -1, unplug_after_ms = -1, v = 0;
   pv_emu_options_t eo;
   pv_emu_options_default(&eo);
@@ -104,6 +121,8 @@ int main(int argc, char **argv) {
       unplug_after_ms = v, ++i;
     } else if (strcmp(a, "--absent-for") == 0 && more && number(argv[i + 1], &v)) {
       absent_ms = v, ++i;
+    } else if (strcmp(a, "--serial-pty") == 0 && more) {
+      pty_link = argv[++i];
     } else if (a[0] != '-' && frames == NULL) {
       frames = a;
     } else {
@@ -149,9 +168,26 @@ int main(int argc, char **argv) {
   timed_unplug_t tu = {emu, unplug_after_ms};
   pthread_t unplugger;
   const int timed = unplug_after_ms >= 0 && pthread_create(&unplugger, NULL, unplug_later, &tu) == 0;
-  const pv_board_cli_hooks_t hooks = {NULL, report_allocations};
+  int pty_slave = -1;
+  if (pty_link != NULL) {
+    char name[256];
+    if (openpty(&g_pty_master, &pty_slave, name, NULL, NULL) != 0) {
+      fprintf(stderr, "pitvol-board-emu: openpty: %s\n", strerror(errno));
+      return 3;
+    }
+    unlink(pty_link);
+    if (symlink(name, pty_link) != 0) {
+      fprintf(stderr, "pitvol-board-emu: %s: %s\n", pty_link, strerror(errno));
+      return 3;
+    }
+    printf("pitvol-board-emu: serial link on %s (%s)\n", pty_link, name);
+  }
+  const pv_board_cli_hooks_t hooks = {link_start, report_allocations};
   const int rc = pv_board_cli_main(board_argc, board_argv, &hooks);
   if (timed) pthread_join(unplugger, NULL);
+  if (pty_link != NULL) unlink(pty_link);
+  if (pty_slave >= 0) close(pty_slave);
+  if (g_pty_master >= 0) close(g_pty_master);
   pv_emu_destroy(emu);
   free(board_argv);
   return rc;
