@@ -13,10 +13,14 @@
  *     --absent-for MS    no scanner at start; plugged in after MS
  *     --unplug-after MS  unplug MS after start, whatever the board is doing
  *                        (plugged back after --replug-after)
- *     --serial-pty LINK  the serial link on a pseudo-terminal: the board
- *                        holds the master side, LINK becomes a symlink to
- *                        the slave side (pitvol-monitor LINK); the slave
- *                        stays open here so monitors may come and go
+ *     --serial-pty LINK  the serial link on a pseudo-terminal pair joined by a
+ *                        thread (host/noisy_line.h): the board has one
+ *                        side, LINK becomes a symlink to the other
+ *                        (pitvol-monitor LINK), kept open here so monitors
+ *                        may come and go
+ *     --serial-noise P   ... with line noise on P % of the bytes both ways
+ *                        (bit flips, drops, inserted bytes)
+ *     --serial-seed S    ... from seed S (default 1)
  * Runs itself under umockdev-wrapper. At exit it prints the allocations
  * counted after start, per zone (board_alloc_zone.h).
  */
@@ -27,17 +31,17 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <pty.h>
 #include <unistd.h>
 
 #include "../board_alloc_zone.h"
 #include "../board_cli.h"
 #include "../board_link.h"
 #include "alloc_counter.h"
+#include "noisy_line.h"
 #include "usb_emulator/emulated_scanner.h"
 
 static pv_board_link_t g_link;
-static int g_pty_master = -1;
+static int g_pty_master = -1; /* the board's side of the line */
 
 static int link_start(pv_board_app_t *app, char *err, size_t errcap) {
   const int fd = g_pty_master;
@@ -71,7 +75,7 @@ static int usage(const char *why) {
   fprintf(stderr,
           "usage: pitvol-board-emu FILE.frames [--fps F] [--unplug-at-frame N]\n"
           "         [--replug-after MS | --no-replug] [--absent-for MS] [--unplug-after MS]\n"
-          "         [--serial-pty LINK]\n"
+          "         [--serial-pty LINK [--serial-noise PERCENT] [--serial-seed S]]\n"
           "         [pitvol-board options]\n");
   return 2;
 }
@@ -98,6 +102,7 @@ int main(int argc, char **argv) {
   pv_board_block_signals(); /* before the emulator's threads exist */
 
   const char *frames = NULL, *pty_link = NULL;
+  double noise_percent = 0, noise_seed = 1;
   double fps = 20, absent_ms = -1, unplug_after_ms = -1, v = 0;
   pv_emu_options_t eo;
   pv_emu_options_default(&eo);
@@ -123,6 +128,10 @@ int main(int argc, char **argv) {
       absent_ms = v, ++i;
     } else if (strcmp(a, "--serial-pty") == 0 && more) {
       pty_link = argv[++i];
+    } else if (strcmp(a, "--serial-noise") == 0 && more && number(argv[i + 1], &v) && v <= 50) {
+      noise_percent = v, ++i;
+    } else if (strcmp(a, "--serial-seed") == 0 && more && number(argv[i + 1], &v)) {
+      noise_seed = v, ++i;
     } else if (a[0] != '-' && frames == NULL) {
       frames = a;
     } else {
@@ -168,25 +177,23 @@ int main(int argc, char **argv) {
   timed_unplug_t tu = {emu, unplug_after_ms};
   pthread_t unplugger;
   const int timed = unplug_after_ms >= 0 && pthread_create(&unplugger, NULL, unplug_later, &tu) == 0;
-  int pty_slave = -1;
+  static pv_noisy_line_t line;
   if (pty_link != NULL) {
-    char name[256];
-    if (openpty(&g_pty_master, &pty_slave, name, NULL, NULL) != 0) {
-      fprintf(stderr, "pitvol-board-emu: openpty: %s\n", strerror(errno));
+    if (pv_noisy_line_open(&line, pty_link, noise_percent, (uint64_t)noise_seed, err, sizeof err) != 0) {
+      fprintf(stderr, "pitvol-board-emu: serial line: %s\n", err);
       return 3;
     }
-    unlink(pty_link);
-    if (symlink(name, pty_link) != 0) {
-      fprintf(stderr, "pitvol-board-emu: %s: %s\n", pty_link, strerror(errno));
-      return 3;
-    }
-    printf("pitvol-board-emu: serial link on %s (%s)\n", pty_link, name);
+    g_pty_master = line.board_fd;
+    printf("pitvol-board-emu: serial link on %s, noise %.3g %% of bytes\n", pty_link, noise_percent);
   }
   const pv_board_cli_hooks_t hooks = {link_start, report_allocations};
   const int rc = pv_board_cli_main(board_argc, board_argv, &hooks);
   if (timed) pthread_join(unplugger, NULL);
-  if (pty_link != NULL) unlink(pty_link);
-  if (pty_slave >= 0) close(pty_slave);
+  if (pty_link != NULL) {
+    pv_noisy_line_close(&line);
+    printf("pitvol-board-emu: serial line: %lu bytes, %lu hit by noise\n", line.bytes, line.hit);
+    unlink(pty_link);
+  }
   if (g_pty_master >= 0) close(g_pty_master);
   pv_emu_destroy(emu);
   free(board_argv);

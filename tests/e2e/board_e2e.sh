@@ -296,6 +296,28 @@ serial_link)
   [ "$(cut -d, -f1 "$work/fetch.csv" | tail -n +2 | tr '\n' ' ')" = "1 2 " ] || fail "log ids: $(cat "$work/fetch.csv")"
   pass "StopScan mid-scan: result #2 ($(sed -n 's/.*"type": "result".*"status": "\([A-Z_]*\)".*/\1/p' "$work/watch2.json"))"
   stop_board || fail "board did not exit cleanly"
+  # Line noise on 1 % of the bytes both ways (flips, drops, insertions):
+  # commands are repeated until answered, a scan's result still arrives
+  # (asked for again by id if its frame was hit), the log comes whole.
+  mv "$work/board.log" "$work/board-2.log"
+  start_board "$cyl.frames" --fps 20 "${link_opts[@]}" --serial-noise 1 --serial-seed 7
+  wait_log "screen idle" 30
+  noisy=(--retry-ms 200 --tries 50)
+  mon set-mass 23500 "${noisy[@]}" >/dev/null 2>&1 || fail "noisy set-mass"
+  printf 'start\n' | mon watch --json --count 1 --seconds 60 "${noisy[@]}" >"$work/watch3.json" 2>/dev/null ||
+    fail "noisy watch"
+  got=$(sed -n 's/.*"type": "result", "id": 3,.*"volume_cm3": \([^,}]*\).*/\1/p' "$work/watch3.json")
+  [ "$got" = "$ref_vol" ] || fail "noisy line: result 3 volume '$got' != $ref_vol"
+  mon fetch "${noisy[@]}" >"$work/noisy.csv" 2>"$work/noisy.err" || fail "noisy fetch: $(cat "$work/noisy.err")"
+  [ "$(cut -d, -f1 "$work/noisy.csv" | tail -n +2 | tr '\n' ' ')" = "1 2 3 " ] || fail "noisy fetch ids"
+  cmp -s <(head -3 "$work/noisy.csv") "$work/fetch.csv" || fail "results 1, 2 differ through the noise"
+  mon_corrupt=$(sed -n 's/.*results; \([0-9]*\) corrupt frames.*/\1/p' "$work/noisy.err")
+  stop_board || fail "board did not exit cleanly"
+  board_corrupt=$(sed -n 's/.*link: [0-9]* frames sent, [0-9]* received, \([0-9]*\) corrupt.*/\1/p' "$work/board.log")
+  hit=$(sed -n 's/.*serial line: [0-9]* bytes, \([0-9]*\) hit by noise.*/\1/p' "$work/board.log")
+  [ "${hit:-0}" -gt 0 ] || fail "the noise hit nothing"
+  [ "${board_corrupt:-0}" -gt 0 ] || [ "${mon_corrupt:-0}" -gt 0 ] || fail "$hit bytes hit, no corrupt frame counted"
+  pass "1 % line noise ($hit bytes hit; board counted $board_corrupt corrupt frames, the last fetch $mon_corrupt): result #3 = pitvol measure, log 1..3 whole"
   ;;
 *)
   echo "unknown case $case_name" >&2
