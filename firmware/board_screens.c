@@ -232,7 +232,8 @@ static void draw_scanning(pv_canvas_t *c, const pv_board_model_t *m, const pv_bo
 }
 
 /* Wet/dry density in g/cm³ (three decimals: 1 kg/m³) and the relative
- * compaction, when a mass was set; the uncertainty is on the volume line. */
+ * compaction with its range from the volume's interval, when a mass was
+ * set. "compaction 100.8% (98.9-102.8)" is 30 characters: fits 320 px. */
 static int density_lines(pv_canvas_t *c, const pv_board_fonts_t *f, const pv_board_model_t *m, int y) {
   const pv_density_t *d = &m->density;
   if (!(d->flags & PV_DENSITY_WET)) return y;
@@ -245,12 +246,12 @@ static int density_lines(pv_canvas_t *c, const pv_board_fonts_t *f, const pv_boa
   }
   if (d->flags & PV_DENSITY_COMPACTION) {
     if (d->flags & PV_DENSITY_UNBOUNDED) {
-      y = line(c, &f->body, y, PV_COLOR_BLACK, "compaction %.1f %% (%.1f .. ?)", d->compaction_percent,
+      y = line(c, &f->body, y, PV_COLOR_BLACK, "compaction %.1f%% (%.1f-?)", d->compaction_percent,
                d->compaction_low_percent);
     } else if (d->compaction_low_percent == d->compaction_high_percent) { /* no interval */
-      y = line(c, &f->body, y, PV_COLOR_BLACK, "compaction %.1f %%", d->compaction_percent);
+      y = line(c, &f->body, y, PV_COLOR_BLACK, "compaction %.1f%%", d->compaction_percent);
     } else {
-      y = line(c, &f->body, y, PV_COLOR_BLACK, "compaction %.1f %% (%.1f .. %.1f)",
+      y = line(c, &f->body, y, PV_COLOR_BLACK, "compaction %.1f%% (%.1f-%.1f)",
                d->compaction_percent, d->compaction_low_percent, d->compaction_high_percent);
     }
   }

@@ -266,7 +266,7 @@ serial_link)
   near compaction_percent "$(awk -v w="$wet" 'BEGIN { printf "%.17g", w / 1.125 / 1850 * 100 }')"
   has "$screens/result.txt" "density flags=0x7 "
   has "$screens/result.txt" "|wet $(awk -v w="$wet" 'BEGIN { printf "%.3f", w / 1000 }') dry $(awk -v w="$wet" 'BEGIN { printf "%.3f", w / 1125 }') g/cm³"
-  has "$screens/result.txt" "|compaction $(awk -v w="$wet" 'BEGIN { printf "%.1f", w / 1.125 / 18.5 }') %"
+  has "$screens/result.txt" "|compaction $(awk -v w="$wet" 'BEGIN { printf "%.1f", w / 1.125 / 18.5 }')%"
   pass "density on the RESULT screen and in the Result: wet $wet kg/m3"
   # The mass was used up by that pit; the moisture stays.
   mon watch --json --seconds 2.5 >"$work/after.json" || fail "watch after"

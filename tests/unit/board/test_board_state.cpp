@@ -247,6 +247,28 @@ void screens_say_what_matters(void **) {
 // pit at 12.5 % moisture, reference 1850 kg/m3. By hand: wet 3000/1525 =
 // 1.967 g/cm3, dry 1.967/1.125 = 1.749, compaction 1748.6/1850 = 94.5 %,
 // its range 3000/1555/1.125/18.5 = 92.7 .. 3000/1495/1.125/18.5 = 96.4.
+// Every body-text line of a screen ends inside 320 px (a clipped range
+// would hide its upper end).
+bool body_lines_fit(const std::string &text) {
+  pv_font_t body;
+  assert_int_equal(pv_font_parse_psf2(&body, pv_font_10x20, pv_font_10x20_bytes, nullptr), 0);
+  size_t at = 0;
+  bool ok = true;
+  while (at < text.size()) {
+    const size_t end = text.find('\n', at);
+    const std::string ln = text.substr(at, end - at);
+    at = end == std::string::npos ? text.size() : end + 1;
+    int x = 0, y = 0, h = 0, used = 0;
+    if (std::sscanf(ln.c_str(), "text %d %d %d|%n", &x, &y, &h, &used) != 3 || h != 20 || used == 0) continue;
+    const int w = pv_text_width(&body, 1, ln.c_str() + used);
+    if (x + w > 320) {
+      std::fprintf(stderr, "clipped: %s (%d px)\n", ln.c_str(), x + w);
+      ok = false;
+    }
+  }
+  return ok;
+}
+
 void result_screen_shows_density(void **) {
   pv_board_model_t m = booted(true);
   m.state = PV_BOARD_RESULT;
@@ -267,10 +289,19 @@ void result_screen_shows_density(void **) {
   std::string t = screen_text(m);
   assert_true(has(t, "|1525.0 \xC2\xB1 30.0 cm\xC2\xB3\n"));
   assert_true(has(t, "|wet 1.967 dry 1.749 g/cm\xC2\xB3\n"));
-  assert_true(has(t, "|compaction 94.5 % (92.7 .. 96.4)\n"));
+  assert_true(has(t, "|compaction 94.5% (92.7-96.4)\n"));
   assert_true(has(t, "|! unseen wall bridged\n"));  // the flags still fit
   assert_true(has(t, "density flags=0x7 "));
+  assert_true(body_lines_fit(t));
+  // The widest compaction line, over 100 % with a range: 3200/1525/1.125/18.5
+  // = 100.8 %, 3200/1555/... = 98.9, 3200/1495/... = 102.8.
+  in.mass_g = 3200;
+  assert_int_equal(pv_density_compute(&in, &m.density), PV_DENSITY_OK);
+  t = screen_text(m);
+  assert_true(has(t, "|compaction 100.8% (98.9-102.8)\n"));
+  assert_true(body_lines_fit(t));
   // No moisture: the wet density only.
+  in.mass_g = 3000;
   in.has_moisture = 0;
   in.reference_max_dry_kg_m3 = 0;
   assert_int_equal(pv_density_compute(&in, &m.density), PV_DENSITY_OK);
