@@ -418,8 +418,12 @@ int pv_board_link_start(pv_board_link_t *bl, pv_board_app_t *app, int adopt_fd, 
     pv_log_config_default(&lc);
     const pv_log_status_t st = pv_log_open(&bl->log, cfg->result_log, &lc);
     if (st != PV_LOG_OK) {
-      snprintf(err, errcap, "result log %s: %s (%s)", cfg->result_log, pv_log_status_message(st),
-               strerror(bl->log.last_errno));
+      /* At start the log's own sentence (about a result on screen) does not fit. */
+      snprintf(err, errcap,
+               "result log %s cannot be opened (%s: %s); check result_log in the configuration "
+               "and the storage card, or set result_log = none to run without keeping results",
+               cfg->result_log, pv_log_status_name(st),
+               st == PV_LOG_ERR_IO ? strerror(bl->log.last_errno) : "invalid path or settings");
       return -1;
     }
     bl->have_log = 1;

@@ -221,6 +221,18 @@ serial_link)
   # monitor's result equals pitvol measure bit for bit; the result log keeps
   # it through a restart of the board.
   mon() { "$bin/pitvol-monitor" "$work/port" "$@"; }
+  # A port that is not there: no link, said in the log; the board still works.
+  start_board "$cyl.frames" --set "serial=$work/absent-tty"
+  wait_log "screen idle" 30
+  grep -q "serial link off: $work/absent-tty: " "$work/board.log" || fail "an absent port not reported"
+  stop_board || fail "board did not exit cleanly"
+  # A result log that cannot be opened stops the start (exit 3) and says why.
+  "$bin/pitvol-board-emu" "$cyl.frames" --display "png:$screens" --input none \
+    --set "result_log=$work/absent/results" >"$work/board.log" 2>&1
+  rc=$?
+  [ $rc -eq 3 ] || fail "unopenable result log: exit $rc, want 3"
+  grep -q "result log $work/absent/results cannot be opened" "$work/board.log" || fail "no reason given"
+  pass "absent port: board runs without the link; unopenable log: exit 3 with the reason"
   link_opts=(--serial-pty "$work/port" --set "result_log=$work/results" --set max_dry_density_kg_m3=1850
              --set device_id=PV-E2E-1)
   start_board "$cyl.frames" --fps 20 "${link_opts[@]}"
