@@ -330,6 +330,7 @@ serial_link)
   [ "${hit:-0}" -gt 0 ] || fail "the noise hit nothing"
   [ "${board_corrupt:-0}" -gt 0 ] || [ "${mon_corrupt:-0}" -gt 0 ] || fail "$hit bytes hit, no corrupt frame counted"
   pass "1 % line noise ($hit bytes hit; board counted $board_corrupt corrupt frames, the last fetch $mon_corrupt): result #3 = pitvol measure, log 1..3 whole"
+  check_allocations # the link, log appends and GetResults streaming included
   ;;
 *)
   echo "unknown case $case_name" >&2
