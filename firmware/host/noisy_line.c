@@ -68,7 +68,8 @@ int pv_noisy_line_open(pv_noisy_line_t *l, const char *link, double percent, uin
   l->p = percent / 100.0;
   l->rng = seed;
   char name[256];
-  if (openpty(&l->board_master, &l->board_fd, NULL, NULL, NULL) != 0 ||
+  if (openpty(&l->board_master, &l->board_fd, name, NULL, NULL) != 0 ||
+      snprintf(l->board_name, sizeof l->board_name, "%s", name) >= (int)sizeof l->board_name ||
       openpty(&l->host_master, &l->host_slave, name, NULL, NULL) != 0) {
     snprintf(err, errcap, "openpty: %s", strerror(errno));
     return -1;

@@ -16,6 +16,7 @@
 
 typedef struct pv_noisy_line {
   int board_fd;              /* slave of the board's pty: give it to the board */
+  char board_name[64];       /* its path, for a board that opens the port by name */
   int board_master, host_master, host_slave;
   double p;                  /* share of bytes hit, 0 .. 1 */
   uint64_t rng;

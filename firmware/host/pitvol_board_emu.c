@@ -21,6 +21,9 @@
  *     --serial-noise P   ... with line noise on P % of the bytes both ways
  *                        (bit flips, drops, inserted bytes)
  *     --serial-seed S    ... from seed S (default 1)
+ *     --serial-by-path   ... and the board opens its side by name (the
+ *                        `serial` key, pv_serial_open) as pitvol-board
+ *                        does, instead of being handed the descriptor
  * Runs itself under umockdev-wrapper. At exit it prints the allocations
  * counted after start, per zone (board_alloc_zone.h).
  */
@@ -75,7 +78,7 @@ static int usage(const char *why) {
   fprintf(stderr,
           "usage: pitvol-board-emu FILE.frames [--fps F] [--unplug-at-frame N]\n"
           "         [--replug-after MS | --no-replug] [--absent-for MS] [--unplug-after MS]\n"
-          "         [--serial-pty LINK [--serial-noise PERCENT] [--serial-seed S]]\n"
+          "         [--serial-pty LINK [--serial-noise PERCENT] [--serial-seed S] [--serial-by-path]]\n"
           "         [pitvol-board options]\n");
   return 2;
 }
@@ -103,12 +106,14 @@ int main(int argc, char **argv) {
 
   const char *frames = NULL, *pty_link = NULL;
   double noise_percent = 0, noise_seed = 1;
+  int by_path = 0;
+  char serial_arg[96];
   double fps = 20, absent_ms = -1, unplug_after_ms = -1, v = 0;
   pv_emu_options_t eo;
   pv_emu_options_default(&eo);
   eo.replug_after_ms = 300;
   int board_argc = 1;
-  char **board_argv = calloc((size_t)argc + 1, sizeof *board_argv);
+  char **board_argv = calloc((size_t)argc + 3, sizeof *board_argv); /* + --set serial=... */
   if (board_argv == NULL) return 3;
   board_argv[0] = argv[0];
   for (int i = 1; i < argc; ++i) {
@@ -130,6 +135,8 @@ int main(int argc, char **argv) {
       pty_link = argv[++i];
     } else if (strcmp(a, "--serial-noise") == 0 && more && number(argv[i + 1], &v) && v <= 50) {
       noise_percent = v, ++i;
+    } else if (strcmp(a, "--serial-by-path") == 0) {
+      by_path = 1;
     } else if (strcmp(a, "--serial-seed") == 0 && more && number(argv[i + 1], &v)) {
       noise_seed = v, ++i;
     } else if (a[0] != '-' && frames == NULL) {
@@ -183,7 +190,13 @@ int main(int argc, char **argv) {
       fprintf(stderr, "pitvol-board-emu: serial line: %s\n", err);
       return 3;
     }
-    g_pty_master = line.board_fd;
+    if (by_path) { /* the emulator keeps its descriptor; the board opens the name */
+      snprintf(serial_arg, sizeof serial_arg, "serial=%s", line.board_name);
+      board_argv[board_argc++] = (char *)"--set";
+      board_argv[board_argc++] = serial_arg;
+    } else {
+      g_pty_master = line.board_fd;
+    }
     printf("pitvol-board-emu: serial link on %s, noise %.3g %% of bytes\n", pty_link, noise_percent);
   }
   const pv_board_cli_hooks_t hooks = {link_start, report_allocations};
@@ -191,6 +204,7 @@ int main(int argc, char **argv) {
   if (timed) pthread_join(unplugger, NULL);
   if (pty_link != NULL) {
     pv_noisy_line_close(&line);
+    if (by_path) close(line.board_fd);
     printf("pitvol-board-emu: serial line: %lu bytes, %lu hit by noise\n", line.bytes, line.hit);
     unlink(pty_link);
   }

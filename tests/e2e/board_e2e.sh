@@ -287,8 +287,11 @@ serial_link)
   stop_board || fail "board did not exit cleanly"
   grep -Eq "link: [0-9]+ frames sent, [0-9]+ received, 0 corrupt" "$work/board.log" || fail "link counters"
   mv "$work/board.log" "$work/board-1.log"
-  start_board "$cyl.frames" --fps 20 "${link_opts[@]}"
+  # This time the board opens its port by name (serial = /dev/pts/N), as
+  # pitvol-board does on /dev/ttyS1.
+  start_board "$cyl.frames" --fps 20 "${link_opts[@]}" --serial-by-path
   wait_log "screen idle" 30
+  grep -q "serial link on /dev/pts/[0-9]* at 115200 baud" "$work/board.log" || fail "port not opened by name"
   grep -q "result log .*: results 1..1," "$work/board.log" || fail "log not recovered"
   mon fetch --json >"$work/fetch.json" 2>/dev/null || fail "fetch after restart"
   cmp -s "$work/fetch.json" "$work/result1.json" || fail "fetched result differs: $(cat "$work/fetch.json")"
