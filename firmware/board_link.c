@@ -399,6 +399,8 @@ static void on_news(pv_board_app_t *app, pv_board_news_t what, const pv_board_mo
   pv_board_link_t *bl = (pv_board_link_t *)user;
   if (what == PV_NEWS_RESULT) {
     on_result(bl);
+  } else if (what == PV_NEWS_ESTIMATE && bl->have_port) {
+    send_status(bl); /* the running volume as soon as it is known */
   } else if (what == PV_NEWS_STATE && bl->have_port && m->state != PV_BOARD_RESULT &&
              m->state != PV_BOARD_REFUSED) {
     send_status(bl); /* (a new result's Status follows the Result, with its id) */

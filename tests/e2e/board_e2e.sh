@@ -297,9 +297,18 @@ serial_link)
   cmp -s "$work/fetch.json" "$work/result1.json" || fail "fetched result differs: $(cat "$work/fetch.json")"
   pass "result #1 read back from the log after a restart, identical"
   # StopScan mid-scan: Ack, then a result #2 (an Error too if no volume).
-  # (--seconds, not --count 1: the Error comes after the Result)
-  (printf 'start\n'; sleep 1.5; printf 'stop\n') | mon watch --json --seconds 8 >"$work/watch2.json" ||
-    fail "watch 2"
+  # The watch runs until result 2 is there and, if it has no volume, the
+  # Error after it (--count 1 would stop before the Error).
+  (printf 'start\n'; sleep 1.5; printf 'stop\n') | mon watch --json --seconds 120 >"$work/watch2.json" &
+  wpid=$!
+  deadline=$((SECONDS + 120))
+  until grep -q '"type": "result", "id": 2, .*"status": "PV_OK"' "$work/watch2.json" ||
+        { grep -q '"type": "result", "id": 2, ' "$work/watch2.json" && grep -q '"type": "error"' "$work/watch2.json"; }; do
+    [ $SECONDS -lt $deadline ] && kill -0 "$wpid" 2>/dev/null || break
+    sleep 0.1
+  done
+  kill "$wpid" 2>/dev/null
+  wait "$wpid" 2>/dev/null
   grep -q '"type": "ack", "command": "stop"' "$work/watch2.json" || fail "stop not acknowledged"
   grep -q '"type": "result", "id": 2, ' "$work/watch2.json" || fail "no result 2"
   if ! grep -q '"type": "result", "id": 2, .*"status": "PV_OK"' "$work/watch2.json"; then
