@@ -182,12 +182,41 @@ static void poll_usb(pv_board_app_t *app) {
   if (now == PV_USB_STATE_ENDED) pv_board_app_post(app, PV_EV_SCAN_ENDED);
 }
 
+/* Density of a measured result from the mass (and moisture) set over the
+ * link; the mass is used up (the next pit has its own). */
+static void density(pv_board_app_t *app) {
+  pv_board_model_t *m = &app->model;
+  memset(&m->density, 0, sizeof m->density);
+  m->result_id = 0;
+  if (m->result_status != PV_OK || !m->mass_set) return;
+  pv_density_input_t in;
+  memset(&in, 0, sizeof in);
+  in.volume_cm3 = m->result.volume_cm3;
+  in.interval_cm3 = m->result.interval_cm3;
+  in.has_mass = 1;
+  in.mass_g = m->mass_g;
+  in.has_moisture = m->moisture_set;
+  in.moisture_percent = m->moisture_percent;
+  in.reference_max_dry_kg_m3 = app->cfg.max_dry_density_kg_m3;
+  const pv_density_status_t st = pv_density_compute(&in, &m->density);
+  if (st != PV_DENSITY_OK) {
+    printf("pitvol-board: no density: %s\n", pv_density_status_message(st));
+    return;
+  }
+  m->mass_set = 0;
+  printf("pitvol-board: density flags=0x%x mass_g=%.17g moisture_percent=%.17g wet_kg_m3=%.17g "
+         "dry_kg_m3=%.17g compaction_percent=%.17g\n",
+         m->density.flags, in.mass_g, in.has_moisture ? in.moisture_percent : 0.0, m->density.wet_kg_m3,
+         m->density.dry_kg_m3, m->density.compaction_percent);
+}
+
 static void measure(pv_board_app_t *app) {
   app->measure_pending = 0;
   const int old = pv_alloc_zone_enter(PV_ZONE_MEASURE);
   memset(&app->model.result, 0, sizeof app->model.result);
   app->model.result_status = pv_session_finish(app->session, &app->model.result);
   pv_alloc_zone_enter(old);
+  density(app);
   log_result(app);
   pv_board_app_post(app, PV_EV_MEASURED);
 }

@@ -1,6 +1,9 @@
 /* The board's configuration file (board_config.h). */
 #include "board_config.h"
 
+#include "pitvol/density.h"
+#include "pitvol/serial.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -36,6 +39,10 @@ void pv_board_config_default(pv_board_config_t *c) {
   c->display_height = 240;
   snprintf(c->input, sizeof c->input, "evdev:/dev/input/event0");
   snprintf(c->serial, sizeof c->serial, "none");
+  c->serial_baud = 115200;
+  snprintf(c->result_log, sizeof c->result_log, "none");
+  c->max_dry_density_kg_m3 = 0;
+  snprintf(c->device_id, sizeof c->device_id, "PV-BOARD");
   c->units = PV_UNITS_CM3;
   c->estimate_period_ms = 500;
   pv_config_default(&c->core);
@@ -81,6 +88,34 @@ int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value
       snprintf(err, errcap, "%s is too long", key);
       return -1;
     }
+    return 0;
+  }
+  if (strcmp(key, "result_log") == 0 || strcmp(key, "device_id") == 0) {
+    const int log = key[0] == 'r';
+    if (copy_str(log ? c->result_log : c->device_id, log ? sizeof c->result_log : sizeof c->device_id,
+                 value) != 0) {
+      snprintf(err, errcap, "%s is too long", key);
+      return -1;
+    }
+    return 0;
+  }
+  if (strcmp(key, "serial_baud") == 0) {
+    if (parse_ulong(value, 4000000ul, &u) != 0 || !pv_serial_baud_supported((uint32_t)u)) {
+      snprintf(err, errcap, "serial_baud must be a standard rate from 9600 to 4000000");
+      return -1;
+    }
+    c->serial_baud = (uint32_t)u;
+    return 0;
+  }
+  if (strcmp(key, "max_dry_density_kg_m3") == 0) {
+    char *end = NULL;
+    const double d = strtod(value, &end);
+    if (end == value || *end != '\0' || !isfinite(d) ||
+        (d != 0 && (d < PV_DENSITY_MIN_REFERENCE_KG_M3 || d > PV_DENSITY_MAX_REFERENCE_KG_M3))) {
+      snprintf(err, errcap, "max_dry_density_kg_m3 must be 0 (none) or 500 .. 3500 (Proctor maximum dry density, kg/m3)");
+      return -1;
+    }
+    c->max_dry_density_kg_m3 = d;
     return 0;
   }
   if (strcmp(key, "units") == 0) {

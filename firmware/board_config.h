@@ -8,6 +8,10 @@
  *   display_height = 240
  *   input = evdev:/dev/input/event0   or pipe:PATH, none; input.h
  *   serial = /dev/ttyS1          the tablet/logger link (issue 10), or none
+ *   serial_baud = 115200         its rate (9600 .. 4000000, standard rates)
+ *   result_log = /var/lib/pitvol/results   the result log's directory, or none
+ *   max_dry_density_kg_m3 = 1850 reference for relative compaction (0: none)
+ *   device_id = PV-0001          sent in the link's Hello
  *   units = cm3                  volume shown in cm3 or l
  *   estimate_period_ms = 500     live estimate while scanning
  *   core.<field> = value         any pv_config_t field by its name
@@ -36,6 +40,10 @@ typedef struct pv_board_config {
   uint16_t display_width, display_height;
   char input[PV_BOARD_PATH_BYTES];
   char serial[PV_BOARD_PATH_BYTES];
+  uint32_t serial_baud;
+  char result_log[PV_BOARD_PATH_BYTES];
+  double max_dry_density_kg_m3; /* 0: no compaction */
+  char device_id[24];   /* Hello.device_id: at most 23 characters */
   pv_board_units_t units;
   uint32_t estimate_period_ms;
   pv_config_t core;

@@ -231,6 +231,35 @@ static void draw_scanning(pv_canvas_t *c, const pv_board_model_t *m, const pv_bo
   legend(c, f, "STOP: end scan and measure");
 }
 
+/* Wet/dry density in g/cm³ (three decimals: 1 kg/m³) and the relative
+ * compaction with its range from the volume's interval, when a mass was
+ * set. "compaction 100.8% (98.9-102.8)" is 30 characters: fits 320 px. */
+static int density_lines(pv_canvas_t *c, const pv_board_fonts_t *f, const pv_board_model_t *m, int y) {
+  const pv_density_t *d = &m->density;
+  if (!(d->flags & PV_DENSITY_WET)) return y;
+  if (d->flags & PV_DENSITY_DRY) {
+    y = line(c, &f->body, y, PV_COLOR_BLACK, "wet %.3f dry %.3f g/cm" CUBED,
+             pv_density_kg_m3_to_g_cm3(d->wet_kg_m3), pv_density_kg_m3_to_g_cm3(d->dry_kg_m3));
+  } else {
+    y = line(c, &f->body, y, PV_COLOR_BLACK, "wet %.3f g/cm" CUBED " (no moisture)",
+             pv_density_kg_m3_to_g_cm3(d->wet_kg_m3));
+  }
+  if (d->flags & PV_DENSITY_COMPACTION) {
+    if (d->flags & PV_DENSITY_UNBOUNDED) {
+      y = line(c, &f->body, y, PV_COLOR_BLACK, "compaction %.1f%% (%.1f-?)", d->compaction_percent,
+               d->compaction_low_percent);
+    } else if (d->compaction_low_percent == d->compaction_high_percent) { /* no interval */
+      y = line(c, &f->body, y, PV_COLOR_BLACK, "compaction %.1f%%", d->compaction_percent);
+    } else {
+      y = line(c, &f->body, y, PV_COLOR_BLACK, "compaction %.1f%% (%.1f-%.1f)",
+               d->compaction_percent, d->compaction_low_percent, d->compaction_high_percent);
+    }
+  }
+  pv_canvas_note(c, "density flags=0x%x wet_kg_m3=%.17g dry_kg_m3=%.17g compaction_percent=%.17g",
+                 d->flags, d->wet_kg_m3, d->dry_kg_m3, d->compaction_percent);
+  return y;
+}
+
 static void draw_result(pv_canvas_t *c, const pv_board_model_t *m, const pv_board_fonts_t *f,
                         pv_board_units_t units) {
   const pv_result_t *r = &m->result;
@@ -242,11 +271,6 @@ static void draw_result(pv_canvas_t *c, const pv_board_model_t *m, const pv_boar
   char num[32];
   const char *unit = "";
   volume_text(r->volume_cm3, units, num, sizeof num, &unit);
-  int y = TITLE_H + 6;
-  int scale = 2;
-  if (pv_text_width(&f->big, 2, num) > c->width - 2 * MARGIN) scale = 1;
-  pv_canvas_text(c, &f->big, scale, MARGIN, y, PV_COLOR_BLACK, num);
-  y += (int)f->big.height_px * scale + 2;
   char buf[64];
   if (r->interval_cm3 > 0) {
     char iv[32];
@@ -256,9 +280,24 @@ static void draw_result(pv_canvas_t *c, const pv_board_model_t *m, const pv_boar
   } else {
     snprintf(buf, sizeof buf, "%s", unit);
   }
-  pv_canvas_text(c, &f->big, 1, MARGIN, y, PV_COLOR_BLACK, buf);
-  y += 34;
+  int y = TITLE_H + 6;
+  char one[96];
+  snprintf(one, sizeof one, "%s %s", num, buf);
+  if ((m->density.flags & PV_DENSITY_WET) && pv_text_width(&f->big, 1, one) <= c->width - 2 * MARGIN) {
+    /* With a density: the volume on one line, so the density lines and
+     * the quality flags still fit on 320 x 240. */
+    pv_canvas_text(c, &f->big, 1, MARGIN, y, PV_COLOR_BLACK, one);
+    y += 34;
+  } else {
+    int scale = 2;
+    if (pv_text_width(&f->big, 2, num) > c->width - 2 * MARGIN) scale = 1;
+    pv_canvas_text(c, &f->big, scale, MARGIN, y, PV_COLOR_BLACK, num);
+    y += (int)f->big.height_px * scale + 2;
+    pv_canvas_text(c, &f->big, 1, MARGIN, y, PV_COLOR_BLACK, buf);
+    y += 34;
+  }
   y = line(c, &f->body, y, PV_COLOR_BLACK, "depth %.1f mm  tilt %.0f" DEG, r->depth_mm, r->tilt_deg);
+  y = density_lines(c, f, m, y);
   /* Quality flags: the ones that change how far to trust the number first. */
   int shown = 0;
   const int room = (c->height - LINE_H - 4 - y) / LINE_H;

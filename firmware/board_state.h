@@ -19,6 +19,7 @@
 
 #include <stdint.h>
 
+#include "pitvol/density.h"
 #include "pitvol/pitvol.h"
 
 #ifdef __cplusplus
@@ -75,6 +76,13 @@ typedef struct pv_board_model {
   pv_result_t result;
   uint32_t board_warnings;
   char message[128];     /* why a scan could not start, etc. */
+  /* Density (issue 10): set over the serial link (SetMass, SetMoisture).
+   * The mass belongs to one pit: a measured result uses it and clears it;
+   * the moisture stays until changed. */
+  int mass_set, moisture_set;
+  double mass_g, moisture_percent;
+  pv_density_t density;  /* of model.result; flags 0: no mass was set */
+  uint32_t result_id;    /* the result's record number in the log, 0: not logged */
 } pv_board_model_t;
 
 void pv_board_init(pv_board_model_t *m);

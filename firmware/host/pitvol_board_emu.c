@@ -13,6 +13,17 @@
  *     --absent-for MS    no scanner at start; plugged in after MS
  *     --unplug-after MS  unplug MS after start, whatever the board is doing
  *                        (plugged back after --replug-after)
+ *     --serial-pty LINK  the serial link on a pseudo-terminal pair joined by a
+ *                        thread (host/noisy_line.h): the board has one
+ *                        side, LINK becomes a symlink to the other
+ *                        (pitvol-monitor LINK), kept open here so monitors
+ *                        may come and go
+ *     --serial-noise P   ... with line noise on P % of the bytes both ways
+ *                        (bit flips, drops, inserted bytes)
+ *     --serial-seed S    ... from seed S (default 1)
+ *     --serial-by-path   ... and the board opens its side by name (the
+ *                        `serial` key, pv_serial_open) as pitvol-board
+ *                        does, instead of being handed the descriptor
  * Runs itself under umockdev-wrapper. At exit it prints the allocations
  * counted after start, per zone (board_alloc_zone.h).
  */
@@ -27,11 +38,23 @@
 
 #include "../board_alloc_zone.h"
 #include "../board_cli.h"
+#include "../board_link.h"
 #include "alloc_counter.h"
+#include "noisy_line.h"
 #include "usb_emulator/emulated_scanner.h"
+
+static pv_board_link_t g_link;
+static int g_pty_master = -1; /* the board's side of the line */
+
+static int link_start(pv_board_app_t *app, char *err, size_t errcap) {
+  const int fd = g_pty_master;
+  g_pty_master = -1; /* the link owns it now */
+  return pv_board_link_start(&g_link, app, fd, err, errcap);
+}
 
 static void report_allocations(pv_board_app_t *app) {
   (void)app;
+  pv_board_link_stop(&g_link);
   printf("pitvol-board: allocations after start: board=%ld push=%ld usb=%ld measure=%ld\n",
          pv_alloc_count(PV_ZONE_BOARD), pv_alloc_count(PV_ZONE_PUSH), pv_alloc_count(PV_ZONE_USB),
          pv_alloc_count(PV_ZONE_MEASURE));
@@ -55,6 +78,7 @@ static int usage(const char *why) {
   fprintf(stderr,
           "usage: pitvol-board-emu FILE.frames [--fps F] [--unplug-at-frame N]\n"
           "         [--replug-after MS | --no-replug] [--absent-for MS] [--unplug-after MS]\n"
+          "         [--serial-pty LINK [--serial-noise PERCENT] [--serial-seed S] [--serial-by-path]]\n"
           "         [pitvol-board options]\n");
   return 2;
 }
@@ -80,13 +104,16 @@ int main(int argc, char **argv) {
   }
   pv_board_block_signals(); /* before the emulator's threads exist */
 
-  const char *frames = NULL;
+  const char *frames = NULL, *pty_link = NULL;
+  double noise_percent = 0, noise_seed = 1;
+  int by_path = 0;
+  char serial_arg[96];
   double fps = 20, absent_ms = -1, unplug_after_ms = -1, v = 0;
   pv_emu_options_t eo;
   pv_emu_options_default(&eo);
   eo.replug_after_ms = 300;
   int board_argc = 1;
-  char **board_argv = calloc((size_t)argc + 1, sizeof *board_argv);
+  char **board_argv = calloc((size_t)argc + 3, sizeof *board_argv); /* + --set serial=... */
   if (board_argv == NULL) return 3;
   board_argv[0] = argv[0];
   for (int i = 1; i < argc; ++i) {
@@ -104,6 +131,14 @@ int main(int argc, char **argv) {
       unplug_after_ms = v, ++i;
     } else if (strcmp(a, "--absent-for") == 0 && more && number(argv[i + 1], &v)) {
       absent_ms = v, ++i;
+    } else if (strcmp(a, "--serial-pty") == 0 && more) {
+      pty_link = argv[++i];
+    } else if (strcmp(a, "--serial-noise") == 0 && more && number(argv[i + 1], &v) && v <= 50) {
+      noise_percent = v, ++i;
+    } else if (strcmp(a, "--serial-by-path") == 0) {
+      by_path = 1;
+    } else if (strcmp(a, "--serial-seed") == 0 && more && number(argv[i + 1], &v)) {
+      noise_seed = v, ++i;
     } else if (a[0] != '-' && frames == NULL) {
       frames = a;
     } else {
@@ -149,9 +184,31 @@ int main(int argc, char **argv) {
   timed_unplug_t tu = {emu, unplug_after_ms};
   pthread_t unplugger;
   const int timed = unplug_after_ms >= 0 && pthread_create(&unplugger, NULL, unplug_later, &tu) == 0;
-  const pv_board_cli_hooks_t hooks = {NULL, report_allocations};
+  static pv_noisy_line_t line;
+  if (pty_link != NULL) {
+    if (pv_noisy_line_open(&line, pty_link, noise_percent, (uint64_t)noise_seed, err, sizeof err) != 0) {
+      fprintf(stderr, "pitvol-board-emu: serial line: %s\n", err);
+      return 3;
+    }
+    if (by_path) { /* the emulator keeps its descriptor; the board opens the name */
+      snprintf(serial_arg, sizeof serial_arg, "serial=%s", line.board_name);
+      board_argv[board_argc++] = (char *)"--set";
+      board_argv[board_argc++] = serial_arg;
+    } else {
+      g_pty_master = line.board_fd;
+    }
+    printf("pitvol-board-emu: serial link on %s, noise %.3g %% of bytes\n", pty_link, noise_percent);
+  }
+  const pv_board_cli_hooks_t hooks = {link_start, report_allocations};
   const int rc = pv_board_cli_main(board_argc, board_argv, &hooks);
   if (timed) pthread_join(unplugger, NULL);
+  if (pty_link != NULL) {
+    pv_noisy_line_close(&line);
+    if (by_path) close(line.board_fd);
+    printf("pitvol-board-emu: serial line: %lu bytes, %lu hit by noise\n", line.bytes, line.hit);
+    unlink(pty_link);
+  }
+  if (g_pty_master >= 0) close(g_pty_master);
   pv_emu_destroy(emu);
   free(board_argv);
   return rc;

@@ -8,6 +8,7 @@
 #
 #   board_e2e.sh CASE BIN_DIR FIXTURE_DIR WORK_DIR
 # CASE: full_scan | stop_mid_scan | unplug_idle | unplug_replug | unplug_end | no_scanner_at_start | refused
+#       | serial_link (pitvol-monitor over a pseudo-terminal, result log, density)
 set -uo pipefail
 case_name=$1 bin=$2 fixtures=$3 work=$4/$1
 
@@ -213,6 +214,135 @@ refused)
   pass "refused with $ref_st, as pitvol measure"
   stop_board || fail "board did not exit cleanly"
   png_ok refused
+  ;;
+serial_link)
+  # The serial link (issue 10) over a real pseudo-terminal: pitvol-monitor
+  # against the board, every message of the protocol exchanged; the
+  # monitor's result equals pitvol measure bit for bit; the result log keeps
+  # it through a restart of the board.
+  mon() { "$bin/pitvol-monitor" "$work/port" "$@"; }
+  # A port that is not there: no link, said in the log; the board still works.
+  start_board "$cyl.frames" --set "serial=$work/absent-tty"
+  wait_log "screen idle" 30
+  grep -q "serial link off: $work/absent-tty: " "$work/board.log" || fail "an absent port not reported"
+  stop_board || fail "board did not exit cleanly"
+  # A result log that cannot be opened stops the start (exit 3) and says why.
+  "$bin/pitvol-board-emu" "$cyl.frames" --display "png:$screens" --input none \
+    --set "result_log=$work/absent/results" >"$work/board.log" 2>&1
+  rc=$?
+  [ $rc -eq 3 ] || fail "unopenable result log: exit $rc, want 3"
+  grep -q "result log $work/absent/results cannot be opened" "$work/board.log" || fail "no reason given"
+  pass "absent port: board runs without the link; unopenable log: exit 3 with the reason"
+  link_opts=(--serial-pty "$work/port" --set "result_log=$work/results" --set max_dry_density_kg_m3=1850
+             --set device_id=PV-E2E-1)
+  start_board "$cyl.frames" --fps 20 "${link_opts[@]}"
+  wait_log "screen idle" 30
+  grep -q "serial link on pty" "$work/board.log" || fail "link not on"
+  # GetHello -> Hello + Ack
+  mon hello >"$work/hello.txt" 2>&1 || fail "hello: $(cat "$work/hello.txt")"
+  grep -q "device PV-E2E-1, protocol 1, results 0..0" "$work/hello.txt" || fail "hello: $(cat "$work/hello.txt")"
+  # SetMass, SetMoisture -> Ack; out of range and StopScan while idle -> Nack (exit 1)
+  mon set-mass 23500 >/dev/null 2>&1 || fail "set-mass"
+  mon set-moisture 12.5 >/dev/null 2>&1 || fail "set-moisture"
+  mon set-mass -1 >/dev/null 2>"$work/nack.txt" && fail "a negative mass was taken"
+  grep -q "more than 0 g" "$work/nack.txt" || fail "no reason for the refused mass: $(cat "$work/nack.txt")"
+  mon stop >/dev/null 2>&1 && fail "StopScan while idle was taken"
+  # StartScan through watch: Status while scanning, the Result when the
+  # scanner ends the scan.
+  printf 'start\n' | mon watch --json --count 1 --seconds 90 >"$work/watch.json" || fail "watch"
+  grep -q '"type": "ack", "command": "start"' "$work/watch.json" || fail "start not acknowledged"
+  nstat=$(grep -c '"type": "status", "state": "scanning"' "$work/watch.json")
+  [ "$nstat" -ge 2 ] || fail "$nstat status messages while scanning"
+  grep -q '"type": "status", "state": "scanning", "points": [1-9]' "$work/watch.json" || fail "no points in status"
+  if grep -q "pitvol-board: estimate PV_OK" "$work/board.log"; then
+    grep -q '"running_volume_cm3": [1-9].*"coverage": \[[0-9]' "$work/watch.json" || fail "no running volume/coverage in status"
+  fi
+  grep '"type": "result"' "$work/watch.json" >"$work/result1.json"
+  [ "$(wc -l <"$work/result1.json")" -eq 1 ] || fail "want one result ($(cat "$work/watch.json" | tail -3))"
+  grep -q '"id": 1, ' "$work/result1.json" || fail "result id: $(cat "$work/result1.json")"
+  read -r ref_st ref_vol <<<"$(reference "$cyl.ply")"
+  got=$(sed -n 's/.*"volume_cm3": \([^,}]*\).*/\1/p' "$work/result1.json")
+  [ "$got" = "$ref_vol" ] || fail "monitor volume $got != pitvol measure $ref_vol"
+  [ "$(result_field volume_cm3)" = "$ref_vol" ] || fail "board's own log volume differs"
+  pass "monitor result #1: $got cm3 = pitvol measure bit for bit ($nstat status while scanning)"
+  # Density from the mass and moisture sent: 23.5 kg, 12.5 %, reference 1850 kg/m3.
+  near() { # FIELD WANT: within 1e-9 relative
+    local v
+    v=$(sed -n "s/.*\"$1\": \([^,}]*\).*/\1/p" "$work/result1.json")
+    awk -v a="$v" -v b="$2" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(a != "" && d <= 1e-9 * b) }' ||
+      fail "result 1: $1 = $v, want $2"
+  }
+  wet=$(awk -v v="$ref_vol" 'BEGIN { printf "%.17g", 23500 / v * 1000 }')
+  near wet_kg_m3 "$wet"
+  near dry_kg_m3 "$(awk -v w="$wet" 'BEGIN { printf "%.17g", w / 1.125 }')"
+  near compaction_percent "$(awk -v w="$wet" 'BEGIN { printf "%.17g", w / 1.125 / 1850 * 100 }')"
+  has "$screens/result.txt" "density flags=0x7 "
+  has "$screens/result.txt" "|wet $(awk -v w="$wet" 'BEGIN { printf "%.3f", w / 1000 }') dry $(awk -v w="$wet" 'BEGIN { printf "%.3f", w / 1125 }') g/cm³"
+  has "$screens/result.txt" "|compaction $(awk -v w="$wet" 'BEGIN { printf "%.1f", w / 1.125 / 18.5 }')%"
+  pass "density on the RESULT screen and in the Result: wet $wet kg/m3"
+  # The mass was used up by that pit; the moisture stays.
+  mon watch --json --seconds 2.5 >"$work/after.json" || fail "watch after"
+  grep -q '"mass_g": null, "moisture_percent": 12.5' "$work/after.json" || fail "mass not cleared after use"
+  # A restart: the result comes back from the log.
+  stop_board || fail "board did not exit cleanly"
+  grep -Eq "link: [0-9]+ frames sent, [0-9]+ received, 0 corrupt" "$work/board.log" || fail "link counters"
+  mv "$work/board.log" "$work/board-1.log"
+  # This time the board opens its port by name (serial = /dev/pts/N), as
+  # pitvol-board does on /dev/ttyS1.
+  start_board "$cyl.frames" --fps 20 "${link_opts[@]}" --serial-by-path
+  wait_log "screen idle" 30
+  grep -q "serial link on /dev/pts/[0-9]* at 115200 baud" "$work/board.log" || fail "port not opened by name"
+  grep -q "result log .*: results 1..1," "$work/board.log" || fail "log not recovered"
+  mon fetch --json >"$work/fetch.json" 2>/dev/null || fail "fetch after restart"
+  cmp -s "$work/fetch.json" "$work/result1.json" || fail "fetched result differs: $(cat "$work/fetch.json")"
+  pass "result #1 read back from the log after a restart, identical"
+  # StopScan mid-scan: Ack, then a result #2 (an Error too if no volume).
+  # The watch runs until result 2 is there and, if it has no volume, the
+  # Error after it (--count 1 would stop before the Error).
+  (printf 'start\n'; sleep 1.5; printf 'stop\n') | mon watch --json --seconds 120 >"$work/watch2.json" &
+  wpid=$!
+  deadline=$((SECONDS + 120))
+  until grep -q '"type": "result", "id": 2, .*"status": "PV_OK"' "$work/watch2.json" ||
+        { grep -q '"type": "result", "id": 2, ' "$work/watch2.json" && grep -q '"type": "error"' "$work/watch2.json"; }; do
+    [ $SECONDS -lt $deadline ] && kill -0 "$wpid" 2>/dev/null || break
+    sleep 0.1
+  done
+  kill "$wpid" 2>/dev/null
+  wait "$wpid" 2>/dev/null
+  grep -q '"type": "ack", "command": "stop"' "$work/watch2.json" || fail "stop not acknowledged"
+  grep -q '"type": "result", "id": 2, ' "$work/watch2.json" || fail "no result 2"
+  if ! grep -q '"type": "result", "id": 2, .*"status": "PV_OK"' "$work/watch2.json"; then
+    grep -q '"type": "error", "code": [1-9]' "$work/watch2.json" || fail "no Error after a result without volume"
+  fi
+  grep -q '"wet_kg_m3": null' "$work/watch2.json" || grep -q '"density": null' "$work/watch2.json" ||
+    ! grep -q 'wet_kg_m3": [0-9]' "$work/watch2.json" || fail "result 2 has a density without a mass"
+  mon fetch >"$work/fetch.csv" 2>/dev/null || fail "fetch 2"
+  [ "$(cut -d, -f1 "$work/fetch.csv" | tail -n +2 | tr '\n' ' ')" = "1 2 " ] || fail "log ids: $(cat "$work/fetch.csv")"
+  pass "StopScan mid-scan: result #2 ($(sed -n 's/.*"type": "result".*"status": "\([A-Z_]*\)".*/\1/p' "$work/watch2.json"))"
+  stop_board || fail "board did not exit cleanly"
+  # Line noise on 1 % of the bytes both ways (flips, drops, insertions):
+  # commands are repeated until answered, a scan's result still arrives
+  # (asked for again by id if its frame was hit), the log comes whole.
+  mv "$work/board.log" "$work/board-2.log"
+  start_board "$cyl.frames" --fps 20 "${link_opts[@]}" --serial-noise 1 --serial-seed 7
+  wait_log "screen idle" 30
+  noisy=(--retry-ms 200 --tries 50)
+  mon set-mass 23500 "${noisy[@]}" >/dev/null 2>&1 || fail "noisy set-mass"
+  printf 'start\n' | mon watch --json --count 1 --seconds 60 "${noisy[@]}" >"$work/watch3.json" 2>/dev/null ||
+    fail "noisy watch"
+  got=$(sed -n 's/.*"type": "result", "id": 3,.*"volume_cm3": \([^,}]*\).*/\1/p' "$work/watch3.json")
+  [ "$got" = "$ref_vol" ] || fail "noisy line: result 3 volume '$got' != $ref_vol"
+  mon fetch "${noisy[@]}" >"$work/noisy.csv" 2>"$work/noisy.err" || fail "noisy fetch: $(cat "$work/noisy.err")"
+  [ "$(cut -d, -f1 "$work/noisy.csv" | tail -n +2 | tr '\n' ' ')" = "1 2 3 " ] || fail "noisy fetch ids"
+  cmp -s <(head -3 "$work/noisy.csv") "$work/fetch.csv" || fail "results 1, 2 differ through the noise"
+  mon_corrupt=$(sed -n 's/.*results; \([0-9]*\) corrupt frames.*/\1/p' "$work/noisy.err")
+  stop_board || fail "board did not exit cleanly"
+  board_corrupt=$(sed -n 's/.*link: [0-9]* frames sent, [0-9]* received, \([0-9]*\) corrupt.*/\1/p' "$work/board.log")
+  hit=$(sed -n 's/.*serial line: [0-9]* bytes, \([0-9]*\) hit by noise.*/\1/p' "$work/board.log")
+  [ "${hit:-0}" -gt 0 ] || fail "the noise hit nothing"
+  [ "${board_corrupt:-0}" -gt 0 ] || [ "${mon_corrupt:-0}" -gt 0 ] || fail "$hit bytes hit, no corrupt frame counted"
+  pass "1 % line noise ($hit bytes hit; board counted $board_corrupt corrupt frames, the last fetch $mon_corrupt): result #3 = pitvol measure, log 1..3 whole"
+  check_allocations # the link, log appends and GetResults streaming included
   ;;
 *)
   echo "unknown case $case_name" >&2

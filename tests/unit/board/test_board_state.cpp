@@ -243,6 +243,99 @@ void screens_say_what_matters(void **) {
   assert_true(has(t, "|123 456 points kept\n"));
 }
 
+// The RESULT screen with a density: 3000 g of soil from a 1525 +/- 30 cm3
+// pit at 12.5 % moisture, reference 1850 kg/m3. By hand: wet 3000/1525 =
+// 1.967 g/cm3, dry 1.967/1.125 = 1.749, compaction 1748.6/1850 = 94.5 %,
+// its range 3000/1555/1.125/18.5 = 92.7 .. 3000/1495/1.125/18.5 = 96.4.
+// Every body-text line of a screen ends inside 320 px (a clipped range
+// would hide its upper end).
+bool body_lines_fit(const std::string &text) {
+  pv_font_t body;
+  assert_int_equal(pv_font_parse_psf2(&body, pv_font_10x20, pv_font_10x20_bytes, nullptr), 0);
+  size_t at = 0;
+  bool ok = true;
+  while (at < text.size()) {
+    const size_t end = text.find('\n', at);
+    const std::string ln = text.substr(at, end - at);
+    at = end == std::string::npos ? text.size() : end + 1;
+    int x = 0, y = 0, h = 0, used = 0;
+    if (std::sscanf(ln.c_str(), "text %d %d %d|%n", &x, &y, &h, &used) != 3 || h != 20 || used == 0) continue;
+    const int w = pv_text_width(&body, 1, ln.c_str() + used);
+    if (x + w > 320) {
+      std::fprintf(stderr, "clipped: %s (%d px)\n", ln.c_str(), x + w);
+      ok = false;
+    }
+  }
+  return ok;
+}
+
+void result_screen_shows_density(void **) {
+  pv_board_model_t m = booted(true);
+  m.state = PV_BOARD_RESULT;
+  m.result_status = PV_OK;
+  m.result.volume_cm3 = 1525;
+  m.result.interval_cm3 = 30;
+  m.result.depth_mm = 150;
+  m.result.warnings = PV_WARN_BRIDGED;
+  pv_density_input_t in{};
+  in.volume_cm3 = 1525;
+  in.interval_cm3 = 30;
+  in.has_mass = 1;
+  in.mass_g = 3000;
+  in.has_moisture = 1;
+  in.moisture_percent = 12.5;
+  in.reference_max_dry_kg_m3 = 1850;
+  assert_int_equal(pv_density_compute(&in, &m.density), PV_DENSITY_OK);
+  std::string t = screen_text(m);
+  assert_true(has(t, "|1525.0 \xC2\xB1 30.0 cm\xC2\xB3\n"));
+  assert_true(has(t, "|wet 1.967 dry 1.749 g/cm\xC2\xB3\n"));
+  assert_true(has(t, "|compaction 94.5% (92.7-96.4)\n"));
+  assert_true(has(t, "|! unseen wall bridged\n"));  // the flags still fit
+  assert_true(has(t, "density flags=0x7 "));
+  assert_true(body_lines_fit(t));
+  // The widest compaction line, over 100 % with a range: 3200/1525/1.125/18.5
+  // = 100.8 %, 3200/1555/... = 98.9, 3200/1495/... = 102.8.
+  in.mass_g = 3200;
+  assert_int_equal(pv_density_compute(&in, &m.density), PV_DENSITY_OK);
+  t = screen_text(m);
+  assert_true(has(t, "|compaction 100.8% (98.9-102.8)\n"));
+  assert_true(body_lines_fit(t));
+  // No moisture: the wet density only.
+  in.mass_g = 3000;
+  in.has_moisture = 0;
+  in.reference_max_dry_kg_m3 = 0;
+  assert_int_equal(pv_density_compute(&in, &m.density), PV_DENSITY_OK);
+  t = screen_text(m);
+  assert_true(has(t, "|wet 1.967 g/cm\xC2\xB3 (no moisture)\n"));
+  assert_true(t.find("|compaction") == std::string::npos);
+  // No mass: the screen as before.
+  m.density = pv_density_t{};
+  t = screen_text(m);
+  assert_true(has(t, "|1525.0\n"));
+  assert_true(t.find("wet ") == std::string::npos);
+}
+
+void link_config_keys(void **) {
+  pv_board_config_t c;
+  pv_board_config_default(&c);
+  char err[256];
+  assert_string_equal(c.serial, "none");
+  assert_string_equal(c.result_log, "none");
+  assert_int_equal(c.serial_baud, 115200u);
+  assert_int_equal(pv_board_config_set(&c, "serial_baud", "57600", err, sizeof err), 0);
+  assert_int_equal(c.serial_baud, 57600u);
+  assert_int_equal(pv_board_config_set(&c, "serial_baud", "12345", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "result_log", "/var/lib/pitvol", err, sizeof err), 0);
+  assert_string_equal(c.result_log, "/var/lib/pitvol");
+  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "1850", err, sizeof err), 0);
+  assert_true(c.max_dry_density_kg_m3 == 1850.0);
+  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "0", err, sizeof err), 0);
+  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "185", err, sizeof err), -1);
+  assert_non_null(std::strstr(err, "500 .. 3500"));
+  assert_int_equal(pv_board_config_set(&c, "device_id", "PV-0001", err, sizeof err), 0);
+  assert_int_equal(pv_board_config_set(&c, "device_id", "a-device-id-of-thirty-characters", err, sizeof err), -1);
+}
+
 }  // namespace
 
 int main() {
@@ -258,6 +351,8 @@ int main() {
       cmocka_unit_test(config_file_parses_and_rejects),
       cmocka_unit_test(coverage_hint_names_the_widest_unseen_band),
       cmocka_unit_test(screens_say_what_matters),
+      cmocka_unit_test(result_screen_shows_density),
+      cmocka_unit_test(link_config_keys),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
