@@ -1,8 +1,16 @@
 #!/usr/bin/env bash
 # Installs the Debian packages pitvol builds and tests with, and only those
 # that are missing, so it is cheap to run before every build (idempotent).
-# Usage: toolchain/install-deps.sh [extra-package ...]
+# Usage: toolchain/install-deps.sh [--peers] [extra-package ...]
+#   --peers: also the peer programs of the accuracy report (CloudCompare,
+#            about 200 MB; only the `peers` CTest label needs it).
 set -euo pipefail
+
+peer_packages=()
+if [ "${1:-}" = "--peers" ]; then
+  shift
+  peer_packages=(cloudcompare)
+fi
 
 packages=(
   cmake ninja-build pkg-config g++
@@ -12,6 +20,7 @@ packages=(
   libembree-dev      # ray casting in the scanner simulator (host only)
   libusb-1.0-0-dev   # the scanner's USB driver (drivers/usb)
   umockdev libumockdev-dev  # emulated USB scanner for the usb tests
+  "${peer_packages[@]}"
   "$@"
 )
 
