@@ -56,8 +56,12 @@ inline LayerMap layer_map(const Grid &g, const double level_row[3], double level
 }
 
 // Layers kept below the bottom plane: a few millimetres, at least 2 layers.
-inline uint32_t layers_below(double layer_mm) {
-  const double below_mm = 4.0;
+// The plane is fitted to the lowest few percent of the scan; a curved or
+// uneven floor (a bowl, a hand-dug pit) reaches well below it, which the
+// surface method measures (kSurfaceBelowMm): there the band is deeper.
+constexpr double kBelowMm = 4.0;
+constexpr double kSurfaceBelowMm = 40.0;
+inline uint32_t layers_below(double layer_mm, double below_mm = kBelowMm) {
   const auto n = uint32_t(std::ceil(below_mm / layer_mm));
   return n < 2 ? 2 : n;
 }

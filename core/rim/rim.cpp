@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 namespace pv::rim {
 
 namespace {
@@ -44,6 +46,81 @@ Ground detect_ground(const Eigen::Vector3d *pts, size_t n, const Params &p,
   g.points = uint32_t(best_count);
   g.z_mm = scratch[best_lo + best_count / 2];  // median of the peak
   return g;
+}
+
+GroundPlane fit_ground_plane(const Eigen::Vector3d *pts, size_t n, const Params &p,
+                             double *scratch, uint32_t *idx) {
+  GroundPlane gp;
+  if (n < 64) return gp;
+  for (size_t i = 0; i < n; ++i) scratch[i] = pts[i].z();
+  const size_t k = size_t(0.999 * double(n - 1));
+  std::nth_element(scratch, scratch + k, scratch + n);
+  const double z_hi = scratch[k];
+  const double z_from = z_hi - p.band_ratio * z_hi;
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (pts[i].z() >= z_from && pts[i].z() <= z_hi) idx[m++] = uint32_t(i);
+  }
+  if (m < 64) return gp;
+  const double tol = 1.0;  // mm
+  const double cos_max = std::cos(10.0 * 3.14159265358979323846 / 180.0);
+  uint64_t state = 0x9E3779B97F4A7C15ull;
+  auto next = [&state, m]() {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return size_t((state >> 33) % m);
+  };
+  uint32_t best = 0;
+  Eigen::Vector3d bn = Eigen::Vector3d::UnitZ();
+  double bd = 0;
+  for (int it = 0; it < 256; ++it) {
+    const Eigen::Vector3d &a = pts[idx[next()]], &b = pts[idx[next()]], &c = pts[idx[next()]];
+    Eigen::Vector3d nn = (b - a).cross(c - a);
+    const double len = nn.norm();
+    if (!(len > 1e-6)) continue;
+    nn /= len;
+    if (nn.z() < 0) nn = -nn;
+    if (nn.z() < cos_max) continue;
+    const double d = nn.dot(a);
+    uint32_t cnt = 0;
+    for (size_t q = 0; q < m; ++q) cnt += std::fabs(nn.dot(pts[idx[q]]) - d) <= tol;
+    if (cnt > best) {
+      best = cnt;
+      bn = nn;
+      bd = d;
+    }
+  }
+  if (double(best) < p.ground_share * double(m) || best < 32) return gp;
+  // Least squares on the inliers, twice.
+  for (int round = 0; round < 2; ++round) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    uint32_t cnt = 0;
+    for (size_t q = 0; q < m; ++q) {
+      if (std::fabs(bn.dot(pts[idx[q]]) - bd) <= tol) {
+        mean += pts[idx[q]];
+        ++cnt;
+      }
+    }
+    if (cnt < 32) return gp;
+    mean /= double(cnt);
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (size_t q = 0; q < m; ++q) {
+      if (std::fabs(bn.dot(pts[idx[q]]) - bd) <= tol) {
+        const Eigen::Vector3d v = pts[idx[q]] - mean;
+        cov += v * v.transpose();
+      }
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+    Eigen::Vector3d nn = es.eigenvectors().col(0);
+    if (nn.z() < 0) nn = -nn;
+    bn = nn;
+    bd = nn.dot(mean);
+    gp.inliers = cnt;
+  }
+  if (bn.z() < cos_max) return gp;
+  gp.found = true;
+  gp.normal = bn;
+  gp.d = bd;
+  return gp;
 }
 
 double wall_top_mm(const double *weight, const gridding::Grid &grid,

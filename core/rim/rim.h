@@ -38,6 +38,21 @@ struct Ground {
 Ground detect_ground(const Eigen::Vector3d *pts, size_t n, const Params &p,
                      double *scratch);
 
+// The ground around the rim as a plane (method surface): levelling on the
+// floor leaves the ground tilted where the floor is not level (a bowl, an
+// uneven hand-dug floor), and the volume is defined below the ground.
+// Deterministic RANSAC (fixed sequence) on the top band of the levelled
+// sample, then least squares on the inliers. Found when the plane holds
+// ground_share of the band and is within max_tilt_deg of horizontal.
+struct GroundPlane {
+  bool found = false;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // upward
+  double d = 0;           // plane: normal . p = d
+  uint32_t inliers = 0;
+};
+GroundPlane fit_ground_plane(const Eigen::Vector3d *pts, size_t n, const Params &p,
+                             double *scratch, uint32_t *index_scratch);
+
 // weight[j]: points per final layer j, each stored point counted with the
 // thinning factor of its bin. Returns the wall-top height, or a negative
 // value if no run of wall layers is found.

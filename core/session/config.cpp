@@ -40,7 +40,8 @@ bool in_range(float v, float lo, float hi) { return std::isfinite(v) && v >= lo 
 extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **field_out) {
   const char *bad = nullptr;
   if (cfg == nullptr) return PV_ERR_INVALID_ARGUMENT;
-  if (cfg->method != PV_METHOD_PAPER && cfg->method != PV_METHOD_POLAR) bad = "method";
+  if (cfg->method != PV_METHOD_PAPER && cfg->method != PV_METHOD_POLAR &&
+      cfg->method != PV_METHOD_SURFACE) bad = "method";
   else if (cfg->max_layers < 64 || cfg->max_layers > 65536) bad = "max_layers";
   else if (cfg->points_per_layer < 64 || cfg->points_per_layer > (1u << 20)) bad = "points_per_layer";
   else if (uint64_t(cfg->max_layers) * cfg->points_per_layer > (1ull << 31)) bad = "points_per_layer";

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <Eigen/Geometry>
+
 #include "clustering/clustering.h"
 #include "common/point_hash.h"
 #include "rim/rim.h"
@@ -152,6 +154,30 @@ LayerOutcome process_layer(pv_session *s, size_t n) {
   return o;
 }
 
+// Method surface: when the scan has a ground ring, level on it (the volume
+// is defined below the ground), keeping the floor's origin.
+void level_on_ground(pv_session *s, levelling::Transform *t) {
+  const uint32_t n = s->sample.size();
+  for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t->apply(s->sample_points[i]);
+  rim::Params rp;
+  rp.band_ratio = s->cfg.rim_band_ratio;
+  static_assert(sizeof(uint32_t) <= sizeof(Eigen::Vector3d), "index scratch fits");
+  const rim::GroundPlane gp =
+      rim::fit_ground_plane(s->lv.a, n, rp, s->lv.v, reinterpret_cast<uint32_t *>(s->lv.b));
+  if (!gp.found) return;
+  // Rotation taking the ground normal onto +Z (Rodrigues, small angle).
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d axis = gp.normal.cross(z);
+  const double sn = axis.norm(), cs = gp.normal.dot(z);
+  if (!(sn > 1e-9)) return;
+  const Eigen::Matrix3d K = (Eigen::Matrix3d() << 0, -axis.z(), axis.y(), axis.z(), 0, -axis.x(),
+                             -axis.y(), axis.x(), 0).finished() / sn;
+  const Eigen::Matrix3d Rg =
+      Eigen::Matrix3d::Identity() + sn * K + (1 - cs) * K * K;
+  t->R = Rg * t->R;
+  t->t = Rg * t->t;
+}
+
 double rim_height(pv_session *s, const levelling::Transform &t, bool *ground) {
   const uint32_t n = s->sample.size();
   for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t.apply(s->sample_points[i]);
@@ -208,11 +234,13 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
   out->points_stored = s->bins.stored() - outside;
   if (out->points_out_of_range * 100 > s->points_in) out->warnings |= PV_WARN_OUT_OF_RANGE;
 
+  if (s->cfg.method == PV_METHOD_SURFACE) level_on_ground(s, &t);
   bool ground = false;
   const double rim_mm = rim_height(s, t, &ground);
   if (!(rim_mm > 4 * kEndGuardMm)) return fail(PV_ERR_NO_RIM);
   if (rim_mm > s->grid.top_mm() - 2 * kEndGuardMm) return fail(PV_ERR_DEPTH_EXCEEDS_CAPACITY);
   out->depth_mm = rim_mm;
+  if (s->cfg.method == PV_METHOD_SURFACE) return measure_surface(s, t, rim_mm, out);
 
   // Per-layer areas of the usable band [guard, rim - guard].
   size_t m = 0;

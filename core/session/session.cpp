@@ -116,6 +116,11 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->seq_scratch_cap = sequence_scratch_doubles(layers);
   o->seq_scratch = cv.take<double>(o->seq_scratch_cap);
   o->layer_info = cv.take<pv_layer_info_t>(layers);
+  if (c.method == PV_METHOD_SURFACE) {
+    const surface::Capacity sc = surface_capacity(c);
+    void *mem = cv.take<unsigned char>(surface::bytes_needed(sc));
+    if (block != nullptr) surface::make_workspace(mem, sc, &o->surf);
+  }
   return cv.used();
 }
 
@@ -161,7 +166,9 @@ extern "C" pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size
   s->cfg = *cfg;
   s->grid.layer_mm = cfg->layer_mm;
   s->grid.layers = cfg->max_layers;
-  s->grid.below = gridding::layers_below(cfg->layer_mm);
+  s->grid.below = gridding::layers_below(
+      cfg->layer_mm,
+      cfg->method == PV_METHOD_SURFACE ? gridding::kSurfaceBelowMm : gridding::kBelowMm);
   const size_t head = PV_BLOCK_ALIGN * ((sizeof(pv_session) + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN);
   session::layout(*cfg, base + head, s);
   reset_counters(s);

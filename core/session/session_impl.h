@@ -14,6 +14,7 @@
 #include "area/area_fit.h"
 #include "area/polar_area.h"
 #include "cleanup/mad_filter.h"
+#include "surface/surface_model.h"
 #include "thinning/adaptive_thinning.h"
 #include "volume/volume.h"
 
@@ -42,6 +43,14 @@ class Carver {
 // Points one final layer may hold when it is processed (twice a bin: a
 // final layer can draw on two provisional bins when the plane moved).
 inline uint32_t layer_work_capacity(const pv_config_t &c) { return 2 * c.points_per_layer; }
+
+// The surface model's grids (method surface only): the whole depth range,
+// and pits up to this radius around their axis.
+constexpr double kSurfaceMaxRadiusMm = 320.0;
+inline surface::Capacity surface_capacity(const pv_config_t &c) {
+  return surface::capacity_for(surface::Params{}, double(c.max_layers) * c.layer_mm,
+                               kSurfaceMaxRadiusMm);
+}
 
 inline size_t area_scratch_points(size_t work) { return area::scratch_needed(work); }
 
@@ -99,6 +108,7 @@ struct pv_session {
   size_t seq_scratch_cap;
   pv_layer_info_t *layer_info;  // layers
   uint32_t layer_info_count;
+  pv::surface::Workspace surf;  // method surface only (else empty)
 };
 
 namespace pv::session {
@@ -115,6 +125,10 @@ levelling::Status fit_sample(pv_session *s, levelling::Transform *t,
 void establish_transform(pv_session *s);
 // estimate() and finish() share this; it reads the bins, writes scratch.
 pv_status_t measure(pv_session *s, pv_result_t *out);
+// The surface method's part of measure(): from the levelled stored points,
+// the rim and the bottom of the grid to the result (measure_surface.cpp).
+pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
+                            pv_result_t *out);
 
 }  // namespace pv::session
 

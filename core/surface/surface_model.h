@@ -1,0 +1,164 @@
+// The surface model of a pit (method `surface`, docs/method.md).
+//
+// The paper fits each 0.5 mm layer on its own; a handheld scan sees the
+// lower wall at grazing angles, so sparse layers, floor multipath and
+// unseen bands decide its error. Here the whole pit is one surface:
+// - the wall as a radius grid R(theta, z) around a leaning axis (a line
+//   through the centres of coarse slabs), on theta_bins x dz bins;
+// - the floor as a height map on a Cartesian grid of cell_mm cells.
+// A wall bin's value comes from the points on its surface: those within
+// band_mm of the bin's second-largest radius (the largest may be a stray;
+// multipath lies inside the surface, at smaller radii, and never reaches
+// the band), fitted by r = a + b (z - z_centre) so that a sloping wall is
+// read at the bin's centre height, not at its top. The floor map does the
+// same from below: the points within band_mm of a cell's second-lowest z.
+// Bins the scan did not see are bridged from their neighbours (linear
+// along z where seen bins bracket them, then from around), and bridged
+// again with the lower and the higher neighbour: those two volumes give
+// the unseen band's share of the interval.
+//
+// Volume: the void is {r < R(theta, z)} intersected with {z > floor(x, y)}
+// below the rim plane, integrated on a polar grid around the axis. Each
+// constraint over-estimates the void where it carries no information (the
+// wall near a flat floor, the floor map beyond the wall) and the
+// intersection is the pit.
+//
+// Memory: everything lives in caller memory sized by bytes_needed(); the
+// model is built at finish from the stored points, in three passes over
+// them, with no allocation.
+#ifndef PV_SURFACE_SURFACE_MODEL_H
+#define PV_SURFACE_SURFACE_MODEL_H
+
+#include <cstddef>
+#include <cstdint>
+
+namespace pv::surface {
+
+struct Params {
+  uint32_t theta_bins = 180;       // 2 deg
+  double dz_mm = 2.0;              // wall bin height
+  double cell_mm = 2.0;            // floor map cell
+  double band_mm = 1.5;            // surface band behind the near-extreme
+  uint32_t min_points = 1;         // surface points that make a bin seen
+  double inward_reject_mm = 3.0;   // sparse bin this far inside its neighbours: unseen
+  uint32_t sparse_points = 6;      // bins with fewer points get the inward test
+  double slab_mm = 10.0;           // axis: slab height for the centres
+  double integrate_dz_mm = 0.5;    // z step of the volume integration
+  double integrate_dr_mm = 1.0;    // r step of the volume integration
+  double rim_guard_mm = 1.5;       // wall grid stops this far below the rim
+  uint32_t min_floor_points = 3;   // surface points that make a floor cell seen
+  double floor_seed_mm = 3.0;      // floor flood starts within this of the lowest cells
+  double floor_max_rise_mm = 1.5;  // a larger step from cell to cell is not floor
+  uint32_t short_gap_bins = 4;     // a bridge this short is interpolation, not unseen wall
+};
+
+// Capacities, fixed when the block is laid out.
+struct Capacity {
+  uint32_t theta_bins;
+  uint32_t z_bins;        // wall bins over the whole depth range
+  uint32_t cells;         // floor map cells per side
+  uint32_t slabs;         // axis slabs
+  uint32_t ray_steps;     // integration steps along a ray
+};
+
+// Capacities for a depth range and a largest pit radius.
+Capacity capacity_for(const Params &p, double depth_range_mm, double max_radius_mm);
+
+struct Point {            // levelled, millimetres (bottom plane at z = 0)
+  double x, y, z;
+};
+
+// The source of levelled points, read once per pass: visit(ctx, fn, fn_ctx)
+// calls fn(fn_ctx, p) for every stored point, always in the same order.
+using PointFn = void (*)(void *fn_ctx, const Point &p);
+struct PointSource {
+  void *ctx;
+  void (*visit)(void *ctx, PointFn fn, void *fn_ctx);
+};
+
+struct WallBin {
+  float top1, top2;       // two largest radii
+  uint32_t n_all;         // points in the bin
+  uint32_t n;             // surface points (within band of top2)
+  uint32_t n_floor;       // of those, on the floor map's floor
+  double sr, sz, szz, srz;  // sums over the surface points (z from the bin centre)
+  double sa, saa, sra, sza;  // the same for the angle from the bin centre, rad
+  float band;             // surface band of this bin (wider on a slope)
+  uint8_t state;          // see BinState
+  uint8_t gap;            // bridged: length of the bridge, bins (255: long)
+};
+
+enum BinState : uint8_t {
+  kEmpty = 0, kSeen = 1, kRejected = 2, kBridged = 3,
+  kFloor = 4,     // floor cell connected to the lowest floor
+  kFloorBin = 5   // wall bin whose points are floor: filled, bounded by the floor map
+};
+
+struct FloorCell {
+  float low1, low2;       // two lowest heights
+  uint32_t n;             // surface points (within band of low2)
+  float value;            // height of the floor in this cell
+  double sz;
+  uint8_t state;
+};
+
+struct Workspace {
+  Capacity cap;
+  WallBin *wall;          // theta_bins * z_bins
+  float *wall_val;        // R at the bin centre (bridged where unseen)
+  float *wall_lo, *wall_hi;  // bridged with the lower / higher neighbour
+  FloorCell *floor;       // cells * cells
+  float *slab_top;        // slabs * kAxisSectors * 2: two largest radii
+  float *ray_floor;       // theta_bins * ray_steps: floor along each ray
+  float *ray_max;         // prefix maximum of ray_floor
+  uint32_t *fill_idx;     // theta_bins * z_bins (bridging rounds)
+  float *fill_val;        // max(theta_bins * z_bins * 3, cells * cells)
+  uint32_t *queue;        // cells * cells (floor flood)
+};
+
+constexpr uint32_t kAxisSectors = 36;
+
+size_t bytes_needed(const Capacity &c);
+// memory: bytes_needed(c) bytes, 64-byte aligned.
+void make_workspace(void *memory, const Capacity &c, Workspace *ws);
+
+struct Axis {
+  double cx0, cy0;        // centre at z = 0
+  double cx1, cy1;        // lean: centre moves by (cx1, cy1) per mm of z
+  double cx(double z) const { return cx0 + cx1 * z; }
+  double cy(double z) const { return cy0 + cy1 * z; }
+};
+
+struct Model {
+  Axis axis;
+  double z0_mm;           // bottom of the wall grid
+  uint32_t z_bins;        // used (to the rim)
+  double rim_mm;
+  double floor_x0, floor_y0;  // corner of the floor map
+  uint32_t seen_bins, bridged_bins, rejected_bins;
+  uint32_t short_gap_bins;  // bridges of at most Params::short_gap_bins count as seen
+};
+
+enum class Status { Ok, TooFewPoints, NoWall };
+
+// Builds the wall grid and the floor map from src, between z_bottom_mm
+// (lowest height to consider) and rim_mm.
+Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Params &p,
+             Workspace &ws, Model *m);
+
+struct Volume {
+  double volume_mm3;
+  double lo_mm3, hi_mm3;  // unseen bins bridged with the lower / higher neighbour
+  double unseen_mm3;      // the part of the volume in bridged bins
+  double rim_area_mm2;    // section just below the rim
+};
+
+Volume integrate(const Workspace &ws, const Model &m, const Params &p);
+
+// Share of wall bins seen per height band (bands equal parts of 0..rim).
+// "Seen" counts bins bridged over at most short_gap_bins.
+void coverage(const Workspace &ws, const Model &m, const Params &p, uint32_t bands, float *out);
+
+}  // namespace pv::surface
+
+#endif

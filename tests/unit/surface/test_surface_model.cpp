@@ -1,0 +1,174 @@
+// pv::surface (method "surface") against pits of exactly known volume built
+// from points: cylinder, cone frustum, elliptical cylinder, a bowl (sphere
+// cap), a cylinder with multipath inside, and one with a band of wall
+// removed (bridged, inside the interval).
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+#include "surface/surface_model.h"
+#include "test_rng.h"
+#include "pv_cmocka.h"  // last: see pv_cmocka.h
+
+namespace {
+
+using pv::surface::Point;
+using pv::test::kPi;
+using pv::test::Rng;
+
+// r_of(theta, z) gives the wall; the floor is flat at z = 0 unless a bowl.
+struct Pit {
+  double a = 100, b = 100;      // semi-axes at z = 0
+  double taper = 0;             // radius grows by taper * z
+  double depth = 200;
+  double bowl_radius = 0;       // > 0: the floor is a sphere cap of this radius
+  double gap_from = -1, gap_to = -1;  // wall band with no points
+  double multipath = 0;         // share of points floating inside
+  double rw(double th, double z) const {
+    if (bowl_radius > 0 && z < bowl_radius) {
+      const double R = bowl_radius;
+      return std::sqrt(std::max(0.0, R * R - (R - z) * (R - z)));
+    }
+    const double s = 1 + taper * z / a;
+    return s * a * b / std::sqrt(std::pow(b * std::cos(th), 2) + std::pow(a * std::sin(th), 2));
+  }
+};
+
+std::vector<Point> points_of(const Pit &p, uint64_t seed) {
+  Rng rng{seed};
+  std::vector<Point> v;
+  const double noise = 0.05;
+  for (double z = 0.25; z < p.depth + 3; z += 0.5) {
+    if (z >= p.gap_from && z < p.gap_to) continue;
+    for (int k = 0; k < 720; ++k) {
+      const double th = (k + rng.uniform()) * 2 * kPi / 720;
+      double r = p.rw(th, z) + noise * rng.gauss();
+      if (z > p.depth) r += 60 * rng.uniform();  // ground ring, above the rim
+      const double zz = std::min(z, p.depth) + (z > p.depth ? 0.0 : 0.0);
+      v.push_back(Point{r * std::cos(th), r * std::sin(th), zz});
+      if (rng.uniform() < p.multipath) {
+        const double f = 0.3 + 0.6 * rng.uniform();
+        v.push_back(Point{f * r * std::cos(th), f * r * std::sin(th), zz});
+      }
+    }
+  }
+  // Floor: a dense grid inside the z = 0 outline.
+  for (double x = -200; x <= 200; x += 1.0) {
+    for (double y = -200; y <= 200; y += 1.0) {
+      const double th = std::atan2(y, x), r = std::hypot(x, y);
+      double z = noise * rng.gauss();
+      if (p.bowl_radius > 0) {
+        const double R = p.bowl_radius;
+        if (r >= R) continue;
+        z = R - std::sqrt(R * R - r * r);
+        if (z > p.depth) continue;
+      } else if (r >= p.rw(th, 0)) {
+        continue;
+      }
+      v.push_back(Point{x, y, z});
+    }
+  }
+  return v;
+}
+
+void visit(void *ctx, pv::surface::PointFn fn, void *fn_ctx) {
+  for (const Point &q : *static_cast<std::vector<Point> *>(ctx)) fn(fn_ctx, q);
+}
+
+struct Measured {
+  pv::surface::Volume v;
+  double unseen_share;
+};
+
+Measured measure(std::vector<Point> &pts, double rim_mm) {
+  const pv::surface::Params prm;
+  const pv::surface::Capacity cap = pv::surface::capacity_for(prm, 400, 320);
+  const size_t bytes = pv::surface::bytes_needed(cap);
+  void *mem = std::aligned_alloc(64, (bytes + 63) / 64 * 64);
+  pv::surface::Workspace ws;
+  pv::surface::make_workspace(mem, cap, &ws);
+  pv::surface::Model m;
+  const pv::surface::PointSource src{&pts, visit};
+  assert_int_equal(int(pv::surface::build(src, -4.0, rim_mm, prm, ws, &m)),
+                   int(pv::surface::Status::Ok));
+  Measured r{pv::surface::integrate(ws, m, prm), 0};
+  r.unseen_share = r.v.unseen_mm3 / r.v.volume_mm3;
+  std::free(mem);
+  return r;
+}
+
+void expect_within(double v, double truth, double rel) {
+  const double e = (v - truth) / truth;
+  if (std::fabs(e) > rel) fail_msg("volume %.1f mm3, truth %.1f mm3: %.4f %% off", v, truth, 100 * e);
+}
+
+void cylinder_volume_is_exact(void **) {
+  Pit p;
+  auto pts = points_of(p, 1);
+  const Measured r = measure(pts, p.depth);
+  expect_within(r.v.volume_mm3, kPi * 100 * 100 * p.depth, 0.001);
+  assert_true(r.unseen_share < 0.01);
+}
+
+void frustum_volume_is_exact(void **) {
+  Pit p;
+  p.a = p.b = 80;
+  p.taper = 0.2;
+  auto pts = points_of(p, 2);
+  const double r1 = 80, r2 = 80 + 0.2 * p.depth;
+  expect_within(measure(pts, p.depth).v.volume_mm3,
+                kPi * p.depth / 3 * (r1 * r1 + r1 * r2 + r2 * r2), 0.0015);
+}
+
+void ellipse_volume_is_exact(void **) {
+  Pit p;
+  p.a = 130;
+  p.b = 70;
+  auto pts = points_of(p, 3);
+  expect_within(measure(pts, p.depth).v.volume_mm3, kPi * 130 * 70 * p.depth, 0.001);
+}
+
+// A cylinder of radius 100 whose floor is a sphere cap of radius 100 (a
+// hemisphere 100 deep under a cylinder): V = pi R^2 (H - R) + 2/3 pi R^3.
+void bowl_volume_is_exact(void **) {
+  Pit p;
+  p.bowl_radius = 100;
+  auto pts = points_of(p, 4);
+  const double truth = kPi * 100 * 100 * (p.depth - 100) + 2.0 / 3.0 * kPi * 1e6;
+  expect_within(measure(pts, p.depth).v.volume_mm3, truth, 0.001);
+}
+
+void multipath_inside_changes_nothing(void **) {
+  Pit p;
+  p.multipath = 0.05;
+  auto pts = points_of(p, 5);
+  expect_within(measure(pts, p.depth).v.volume_mm3, kPi * 100 * 100 * p.depth, 0.001);
+}
+
+// A 30 mm band of wall without points: bridged, and the bridge's bounds
+// hold the truth; the band counts as unseen.
+void removed_band_is_bridged_within_interval(void **) {
+  Pit p;
+  p.gap_from = 80;
+  p.gap_to = 110;
+  auto pts = points_of(p, 6);
+  const Measured r = measure(pts, p.depth);
+  const double truth = kPi * 100 * 100 * p.depth;
+  expect_within(r.v.volume_mm3, truth, 0.002);
+  assert_true(r.v.lo_mm3 <= truth * 1.001 && r.v.hi_mm3 >= truth * 0.999);
+  assert_true(r.unseen_share > 0.05 && r.unseen_share < 0.25);
+}
+
+}  // namespace
+
+int main() {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(cylinder_volume_is_exact),
+      cmocka_unit_test(frustum_volume_is_exact),
+      cmocka_unit_test(ellipse_volume_is_exact),
+      cmocka_unit_test(bowl_volume_is_exact),
+      cmocka_unit_test(multipath_inside_changes_nothing),
+      cmocka_unit_test(removed_band_is_bridged_within_interval),
+  };
+  return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
