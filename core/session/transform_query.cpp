@@ -1,12 +1,16 @@
 // pv_session_transform(): the levelling transform and the rim height that
 // measure() uses, for host tools that measure the same levelled cloud with
 // another method (host_tools/peers). It repeats measure()'s stages 1 and 3
-// (final fit on the canonical sample; rim from the ground peak, else the
-// wall top over the per-layer weights) rather than caching them in the
-// session, so the session layout does not change for a query tool.
+// (final fit on the canonical sample; method surface: re-levelled on the
+// ground ring when there is one; rim from the ground peak, else the wall
+// top over the per-layer weights) rather than caching them in the session,
+// so the session layout does not change for a query tool. Keep it in step
+// with measure.cpp (test_transform_query checks they agree).
 #include <cmath>
 #include <cstring>
 #include <new>
+
+#include <Eigen/Geometry>
 
 #include "rim/rim.h"
 #include "session/session_impl.h"
@@ -30,6 +34,27 @@ void layer_weights(pv_session *s, const levelling::Transform &t) {
   }
 }
 
+// As level_on_ground() in measure.cpp (method surface): rotate the ground
+// ring's normal onto +Z, keeping the floor's origin.
+void level_on_ground(pv_session *s, levelling::Transform *t) {
+  const uint32_t n = s->sample.size();
+  for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t->apply(s->sample_points[i]);
+  rim::Params rp;
+  rp.band_ratio = s->cfg.rim_band_ratio;
+  const rim::GroundPlane gp =
+      rim::fit_ground_plane(s->lv.a, n, rp, s->lv.v, reinterpret_cast<uint32_t *>(s->lv.b));
+  if (!gp.found) return;
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d axis = gp.normal.cross(z);
+  const double sn = axis.norm(), cs = gp.normal.dot(z);
+  if (!(sn > 1e-9)) return;
+  const Eigen::Matrix3d K = (Eigen::Matrix3d() << 0, -axis.z(), axis.y(), axis.z(), 0, -axis.x(),
+                             -axis.y(), axis.x(), 0).finished() / sn;
+  const Eigen::Matrix3d Rg = Eigen::Matrix3d::Identity() + sn * K + (1 - cs) * K * K;
+  t->R = Rg * t->R;
+  t->t = Rg * t->t;
+}
+
 pv_status_t query(pv_session *s, pv_transform_t *out) {
   establish_transform(s);
   levelling::Transform t;
@@ -38,11 +63,12 @@ pv_status_t query(pv_session *s, pv_transform_t *out) {
     case levelling::Status::TooFewPoints: return PV_ERR_TOO_FEW_POINTS;
     case levelling::Status::NoPlane: return PV_ERR_NO_BOTTOM_PLANE;
   }
+  layer_weights(s, t);  // on the floor levelling, as measure() assigns layers
+  if (s->cfg.method == PV_METHOD_SURFACE) level_on_ground(s, &t);
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) out->rotation[3 * r + c] = t.R(r, c);
     out->translation_mm[r] = t.t(r);
   }
-  layer_weights(s, t);
   const uint32_t n = s->sample.size();
   for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t.apply(s->sample_points[i]);
   rim::Params rp;
