@@ -124,7 +124,8 @@ std::map<std::string, PeerResult> PeerRunner::run(const std::string &case_name,
                                                   const std::vector<std::string> &peers) {
   std::map<std::string, PeerResult> out;
   mkdir(opt_.cache_dir.c_str(), 0755);
-  const std::string work = opt_.cache_dir + "/" + case_name + ".work";
+  // One work folder per process: runs of different peers may share a cache.
+  const std::string work = opt_.cache_dir + "/" + case_name + ".work" + std::to_string(getpid());
   mkdir(work.c_str(), 0755);
   const std::string ply = work + "/" + case_name + ".ply";
   int st = 0;

@@ -6,7 +6,11 @@
 //                       [--write-expected FILE] [--check FILE]
 //                       [--peers grid25,cloudcompare,poisson] [--peers-cache DIR]
 //                       [--peers-cached-only] [--case NAME ...]
+//                       [--peers-max-error PCT]
 //
+// --peers-max-error (the CTest label peers): fails unless every peer
+// measured at least one case and each measured case is within PCT, a
+// check that the peers run and read the clouds right, not a goal.
 // --peers adds other programs' volumes of the same scans (peer_runner.h),
 // and a table per family with pitvol's methods and the peers side by side;
 // the peers measure the cloud levelled by the first --method. Their results
@@ -182,6 +186,7 @@ int main(int argc, char **argv) {
   std::string write_expected, check;
   bool markdown = false;
   std::vector<std::string> peers, only_cases;
+  double peers_max_error = -1;
   pv::tools::PeerOptions popt;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
@@ -198,6 +203,7 @@ int main(int argc, char **argv) {
     }
     else if (a == "--peers-cache" && i + 1 < argc) popt.cache_dir = argv[++i];
     else if (a == "--peers-cached-only") popt.cached_only = true;
+    else if (a == "--peers-max-error" && i + 1 < argc) peers_max_error = std::atof(argv[++i]);
     else if (a == "--case" && i + 1 < argc) only_cases.push_back(argv[++i]);
     else if (a == "--method" && i + 1 < argc) methods.push_back(argv[++i]);
     else if (a == "--write-expected" && i + 1 < argc) write_expected = argv[++i];
@@ -308,6 +314,29 @@ int main(int argc, char **argv) {
     }
     if (!reasons.empty()) std::printf("\n");
     for (const auto &kv : reasons) std::printf("- %s (%d)\n", kv.first.c_str(), kv.second);
+  }
+
+  if (peers_max_error > 0) {
+    int bad = 0;
+    for (const std::string &p : peers) {
+      int measured = 0;
+      for (const Case &c : cases) {
+        const Outcome &o = results[p][c.name];
+        if (o.status != "PV_OK") continue;
+        ++measured;
+        if (std::fabs(100 * o.error) > peers_max_error) {
+          std::printf("FAIL %s %s: error %+.3f %% beyond %.1f %%\n", p.c_str(), c.name.c_str(),
+                      100 * o.error, peers_max_error);
+          ++bad;
+        }
+      }
+      if (measured == 0) {
+        std::printf("FAIL %s measured no case\n", p.c_str());
+        ++bad;
+      }
+    }
+    std::printf("\npeers: %s\n", bad ? "FAILED" : "all measured cases within the bound");
+    if (bad) return 1;
   }
 
   const std::string &m0 = methods[0];

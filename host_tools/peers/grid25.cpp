@@ -125,6 +125,22 @@ Grid25Result grid25_volume(const std::vector<LevelledPoint> &pts, double rim_mm,
   for (size_t k = 0; k < cells; ++k) {
     if (cnt[k] > 0) h[k] = sum[k] / cnt[k];
   }
+  if (p.median) {
+    std::vector<std::pair<size_t, float>> cz;
+    for (const LevelledPoint &q : pts) {
+      const double fi = std::floor((q.x_mm - x0) / c), fj = std::floor((q.y_mm - y0) / c);
+      if (fi < 0 || fj < 0 || fi >= double(w) || fj >= double(w)) continue;
+      cz.emplace_back(size_t(int64_t(fj) * w + int64_t(fi)), q.z_mm);
+    }
+    std::sort(cz.begin(), cz.end());
+    for (size_t a = 0; a < cz.size();) {
+      size_t b = a;
+      while (b < cz.size() && cz[b].first == cz[a].first) ++b;
+      const size_t m = b - a;
+      h[cz[a].first] = m % 2 ? cz[a + m / 2].second : 0.5 * (double(cz[a + m / 2 - 1].second) + cz[a + m / 2].second);
+      a = b;
+    }
+  }
   // Fill empty pit cells from filled 8-neighbours, one ring per pass (the
   // pass reads the previous pass's heights: the result does not depend on
   // the scan order).

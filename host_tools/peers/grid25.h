@@ -10,7 +10,9 @@
 //     Sectors without three points there take their neighbours' radius.
 //  2. A grid of cell_mm cells over the outline; a cell is in the pit when
 //     its centre is inside the outline (interpolated between sectors).
-//  3. Each cell's height is the mean z of the points that fall in it.
+//  3. Each cell's height is the mean z of the points that fall in it
+//     (CloudCompare's default; the median is a diagnostic option: it shows
+//     how much of the error is multipath points floating above a surface).
 //  4. Empty cells in the pit are filled from their neighbours: passes in
 //     which every empty cell with filled 8-neighbours takes their mean,
 //     until none is left.
@@ -37,6 +39,7 @@ struct Grid25Params {
   uint32_t sectors = 360;
   double band_top_mm = 1.0;     // band of the wall top: rim - 10 .. rim - 1
   double band_depth_mm = 10.0;
+  bool median = false;          // cell height: median z instead of the mean
 };
 
 struct Grid25Result {

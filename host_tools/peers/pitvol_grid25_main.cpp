@@ -1,7 +1,7 @@
 // pitvol-grid25: the reference 2.5D grid volume (grid25.h) of a cloud
 // written by `pitvol measure FILE --export-levelled OUT.ply`.
 //
-//   pitvol-grid25 LEVELLED.ply [--cell-mm 1] [--rim-mm Z]
+//   pitvol-grid25 LEVELLED.ply [--cell-mm 1] [--rim-mm Z] [--median]
 // Prints one JSON object; exit 0 measured, 2 usage, 3 unreadable, 4 no volume.
 #include <chrono>
 #include <cstdio>
@@ -18,14 +18,15 @@ int main(int argc, char **argv) {
     const std::string a = argv[i];
     if (a == "--cell-mm" && i + 1 < argc) p.cell_mm = std::atof(argv[++i]);
     else if (a == "--rim-mm" && i + 1 < argc) rim_override = std::atof(argv[++i]);
+    else if (a == "--median") p.median = true;
     else if (path.empty() && a.rfind("--", 0) != 0) path = a;
     else {
-      std::fprintf(stderr, "usage: pitvol-grid25 LEVELLED.ply [--cell-mm 1] [--rim-mm Z]\n");
+      std::fprintf(stderr, "usage: pitvol-grid25 LEVELLED.ply [--cell-mm 1] [--rim-mm Z] [--median]\n");
       return 2;
     }
   }
   if (path.empty() || !(p.cell_mm > 0)) {
-    std::fprintf(stderr, "usage: pitvol-grid25 LEVELLED.ply [--cell-mm 1] [--rim-mm Z]\n");
+    std::fprintf(stderr, "usage: pitvol-grid25 LEVELLED.ply [--cell-mm 1] [--rim-mm Z] [--median]\n");
     return 2;
   }
   const auto t0 = std::chrono::steady_clock::now();
