@@ -159,7 +159,10 @@ std::map<std::string, PeerResult> PeerRunner::run(const std::string &case_name,
   const bool cache_valid = json_str(cache, "levelling") == key;
 
   for (const std::string &p : peers) {
-    const std::string cached = cache_valid ? json_object(cache, p) : "";
+    // grid25 takes milliseconds: always computed (its cell may change).
+    // CloudCompare's result holds for the grid step it was run with.
+    std::string cached = cache_valid && p != "grid25" ? json_object(cache, p) : "";
+    if (p == "cloudcompare" && json_num(cached, "grid_mm") != opt_.cc_grid_mm) cached.clear();
     if (!cached.empty()) {
       out[p] = PeerResult{json_str(cached, "status"), json_num(cached, "volume_cm3"),
                           json_num(cached, "ms")};
@@ -189,6 +192,11 @@ std::map<std::string, PeerResult> PeerRunner::run(const std::string &case_name,
     const std::string &s = kv.second.status;
     if (s.rfind("not ", 0) == 0 || s.rfind("unavailable", 0) == 0) continue;
     entries[kv.first] = entry(kv.second);
+    if (kv.first == "cloudcompare") {
+      char g[48];
+      std::snprintf(g, sizeof g, ", \"grid_mm\": %g}", opt_.cc_grid_mm);
+      entries[kv.first].replace(entries[kv.first].size() - 1, 1, g);
+    }
   }
   std::ofstream c(cache_path);
   c << "{\"case\": \"" << case_name << "\",\n \"levelling\": \"" << json_escape(key) << "\",\n"

@@ -6,7 +6,7 @@
 //                       [--write-expected FILE] [--check FILE]
 //                       [--peers grid25,cloudcompare,poisson] [--peers-cache DIR]
 //                       [--peers-cached-only] [--case NAME ...]
-//                       [--peers-max-error PCT]
+//                       [--peers-max-error PCT] [--grid-mm 1] [--cc-grid-mm 2]
 //
 // --peers-max-error (the CTest label peers): fails unless every peer
 // measured at least one case and each measured case is within PCT, a
@@ -173,7 +173,8 @@ int usage() {
                "usage: pitvol-accuracy CORPUS_DIR [--markdown] [--method NAME ...]\n"
                "                       [--write-expected FILE] [--check FILE]\n"
                "                       [--peers grid25,cloudcompare,poisson] [--peers-cache DIR]\n"
-               "                       [--peers-cached-only] [--case NAME ...]\n");
+               "                       [--peers-cached-only] [--case NAME ...]\n"
+               "                       [--peers-max-error PCT] [--grid-mm 1] [--cc-grid-mm 2]\n");
   return 2;
 }
 
@@ -203,6 +204,8 @@ int main(int argc, char **argv) {
     }
     else if (a == "--peers-cache" && i + 1 < argc) popt.cache_dir = argv[++i];
     else if (a == "--peers-cached-only") popt.cached_only = true;
+    else if (a == "--grid-mm" && i + 1 < argc) popt.grid_mm = std::atof(argv[++i]);
+    else if (a == "--cc-grid-mm" && i + 1 < argc) popt.cc_grid_mm = std::atof(argv[++i]);
     else if (a == "--peers-max-error" && i + 1 < argc) peers_max_error = std::atof(argv[++i]);
     else if (a == "--case" && i + 1 < argc) only_cases.push_back(argv[++i]);
     else if (a == "--method" && i + 1 < argc) methods.push_back(argv[++i]);
