@@ -1,16 +1,22 @@
 #!/usr/bin/env bash
 # Installs the Debian packages pitvol builds and tests with, and only those
 # that are missing, so it is cheap to run before every build (idempotent).
-# Usage: toolchain/install-deps.sh [--cross] [extra-package ...]
+# Usage: toolchain/install-deps.sh [--cross] [--peers] [extra-package ...]
 #   --cross  also the board (aarch64) and MCU (Cortex-M7) toolchains and
 #            emulators, cppcheck, and the arm64 cmocka (docs/targets.md).
+#   --peers  also the peer programs of the accuracy report (CloudCompare,
+#            about 200 MB; only the `peers` CTest label needs it).
 set -euo pipefail
 
 cross=0
-if [ "${1:-}" = "--cross" ]; then
-  cross=1
-  shift
-fi
+peer_packages=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --cross) cross=1; shift ;;
+    --peers) peer_packages=(cloudcompare); shift ;;
+    *) break ;;
+  esac
+done
 
 packages=(
   cmake ninja-build pkg-config g++
@@ -23,6 +29,7 @@ packages=(
   console-setup-linux   # Terminus console fonts embedded in pitvol-board
   nanopb libnanopb-dev      # serial link messages (firmware/link/pitvol_link.proto)
   clang-14 libfuzzer-14-dev libclang-rt-14-dev  # fuzz/: libFuzzer + ASan/UBSan runtimes
+  "${peer_packages[@]}"
   "$@"
 )
 if [ $cross -eq 1 ]; then

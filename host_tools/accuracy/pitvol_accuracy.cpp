@@ -4,6 +4,19 @@
 //
 //   pitvol-accuracy DIR [--markdown] [--method NAME ...]
 //                       [--write-expected FILE] [--check FILE] [--every N]
+//                       [--peers grid25,cloudcompare,poisson] [--peers-cache DIR]
+//                       [--peers-cached-only] [--case NAME ...]
+//                       [--peers-max-error PCT] [--grid-mm 1] [--cc-grid-mm 2]
+//
+// --peers-max-error (the CTest label peers): fails unless every peer
+// measured at least one case and each measured case is within PCT, a
+// check that the peers run and read the clouds right, not a goal.
+// --peers adds other programs' volumes of the same scans (peer_runner.h),
+// and a table per family with pitvol's methods and the peers side by side;
+// the peers measure the cloud levelled by the first --method. Their results
+// are cached in --peers-cache (default DIR/peers/<case>.json).
+// --case limits the run to the named cases (for computing slow peers in
+// the background, case by case).
 //
 // --every N measures and checks every N-th case only (the sanitizer build).
 // --write-expected records each case's result and its tolerance (a tracked
@@ -22,6 +35,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "peer_runner.h"
 
 namespace {
 
@@ -113,10 +128,14 @@ double tolerance_pct(double error) {
 struct Stats {
   int n = 0, failed = 0;
   double sum_abs = 0, max_abs = 0, sum_in = 0, sum_used = 0, sum_ms = 0;
+  int timed = 0;  // outcomes with a time
   void add(const Outcome &o) {
     ++n;
     sum_in += o.points_in;
-    sum_ms += o.total_ms;
+    if (std::isfinite(o.total_ms)) {
+      sum_ms += o.total_ms;
+      ++timed;
+    }
     if (o.status != "PV_OK") {
       ++failed;
       return;
@@ -135,6 +154,15 @@ struct Stats {
                   sum_ms / n);
     return b;
   }
+  // A row of a family's table: method, cases, refusals, errors, time.
+  std::string short_row(const std::string &method) const {
+    char b[512];
+    const int ok = n - failed;
+    std::snprintf(b, sizeof b, "| %s | %d | %d | %s | %s | %.0f |", method.c_str(), n, failed,
+                  ok ? fmt(100 * sum_abs / ok).c_str() : "-", ok ? fmt(100 * max_abs).c_str() : "-",
+                  timed ? sum_ms / timed : NAN);
+    return b;
+  }
   static std::string fmt(double pct) {
     char b[32];
     std::snprintf(b, sizeof b, "%.3f %%", pct);
@@ -145,6 +173,9 @@ struct Stats {
 const char kUsage[] =
     "usage: pitvol-accuracy CORPUS_DIR [--markdown] [--method NAME ...]\n"
     "                       [--write-expected FILE] [--check FILE] [--every N]\n"
+    "                       [--peers grid25,cloudcompare,poisson] [--peers-cache DIR]\n"
+    "                       [--peers-cached-only] [--case NAME ...]\n"
+    "                       [--peers-max-error PCT] [--grid-mm 1] [--cc-grid-mm 2]\n"
     "       pitvol-accuracy --help\n";
 
 int usage() {
@@ -167,9 +198,28 @@ int main(int argc, char **argv) {
   std::string write_expected, check;
   bool markdown = false;
   long every = 1;  // --every N: every N-th case only (the sanitizer build)
+  std::vector<std::string> peers, only_cases;
+  double peers_max_error = -1;
+  pv::tools::PeerOptions popt;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--markdown") markdown = true;
+    else if (a == "--peers" && i + 1 < argc) {
+      peers = split(argv[++i], ',');
+      for (const std::string &p : peers) {
+        if (!pv::tools::PeerRunner::known(p)) {
+          std::fprintf(stderr, "pitvol-accuracy: unknown peer '%s' (known: grid25, cloudcompare, poisson)\n",
+                       p.c_str());
+          return 2;
+        }
+      }
+    }
+    else if (a == "--peers-cache" && i + 1 < argc) popt.cache_dir = argv[++i];
+    else if (a == "--peers-cached-only") popt.cached_only = true;
+    else if (a == "--grid-mm" && i + 1 < argc) popt.grid_mm = std::atof(argv[++i]);
+    else if (a == "--cc-grid-mm" && i + 1 < argc) popt.cc_grid_mm = std::atof(argv[++i]);
+    else if (a == "--peers-max-error" && i + 1 < argc) peers_max_error = std::atof(argv[++i]);
+    else if (a == "--case" && i + 1 < argc) only_cases.push_back(argv[++i]);
     else if (a == "--method" && i + 1 < argc) methods.push_back(argv[++i]);
     else if (a == "--write-expected" && i + 1 < argc) write_expected = argv[++i];
     else if (a == "--check" && i + 1 < argc) check = argv[++i];
@@ -192,6 +242,17 @@ int main(int argc, char **argv) {
     }
     cases = kept;
   }
+  if (!only_cases.empty()) {
+    std::vector<Case> kept;
+    for (const Case &c : cases) {
+      if (std::find(only_cases.begin(), only_cases.end(), c.name) != only_cases.end()) kept.push_back(c);
+    }
+    if (kept.size() != only_cases.size()) {
+      std::fprintf(stderr, "pitvol-accuracy: a --case is not in %s/manifest.csv\n", dir.c_str());
+      return 2;
+    }
+    cases = kept;
+  }
   const std::string pitvol = self_dir() + "/pitvol";
 
   std::map<std::string, std::map<std::string, Outcome>> results;  // method -> case
@@ -199,9 +260,29 @@ int main(int argc, char **argv) {
     for (const Case &c : cases) results[m][c.name] = measure(pitvol, dir + "/" + c.name + ".ply", m, c.exact_cm3);
   }
 
+  // The peers, on the cloud levelled by the first method.
+  popt.bin_dir = self_dir();
+  popt.export_method = methods[0];
+  if (popt.cache_dir.empty()) popt.cache_dir = dir + "/peers";
+  pv::tools::PeerRunner runner(popt);
+  for (const Case &c : cases) {
+    if (peers.empty()) break;
+    const auto pr = runner.run(c.name, dir + "/" + c.name + ".ply", peers);
+    for (const auto &kv : pr) {
+      Outcome o;
+      o.status = kv.second.status == "ok" ? "PV_OK" : kv.second.status;
+      o.volume_cm3 = kv.second.volume_cm3;
+      o.total_ms = kv.second.ms;
+      if (o.status == "PV_OK") o.error = (o.volume_cm3 - c.exact_cm3) / c.exact_cm3;
+      results[kv.first][c.name] = o;
+    }
+  }
+  std::vector<std::string> all_methods = methods;
+  all_methods.insert(all_methods.end(), peers.begin(), peers.end());
+
   // Per case, then per family and overall.
   std::printf("%s", markdown ? "| case | method | exact cm3 | measured cm3 | error | status |\n|---|---|---|---|---|---|\n" : "");
-  for (const std::string &m : methods) {
+  for (const std::string &m : all_methods) {
     for (const Case &c : cases) {
       const Outcome &o = results[m][c.name];
       if (markdown) {
@@ -226,6 +307,65 @@ int main(int argc, char **argv) {
     }
     for (const std::string &f : order) std::printf("%s\n", fam[f].row(f, m).c_str());
     std::printf("%s\n", all.row("**all**", m).c_str());
+  }
+
+  if (!peers.empty()) {
+    // One table per family: pitvol's methods and the peers side by side.
+    std::vector<std::string> order;
+    for (const Case &c : cases) {
+      if (std::find(order.begin(), order.end(), c.family) == order.end()) order.push_back(c.family);
+    }
+    order.push_back("all");
+    for (const std::string &f : order) {
+      std::printf("\n%s %s\n\n| method | cases | no measurement | mean abs error | max abs error | ms per case |\n"
+                  "|---|---|---|---|---|---|\n",
+                  markdown ? "####" : "family", f.c_str());
+      for (const std::string &m : all_methods) {
+        Stats st;
+        for (const Case &c : cases) {
+          const Outcome &o = results[m][c.name];
+          // A slow peer not computed yet is no refusal: leave it out.
+          if (o.status.rfind("not computed", 0) == 0) continue;
+          if (f == "all" || c.family == f) st.add(o);
+        }
+        if (st.n == 0) continue;
+        const bool peer = std::find(peers.begin(), peers.end(), m) != peers.end();
+        std::printf("%s\n", st.short_row(peer ? m + " (peer)" : m).c_str());
+      }
+    }
+    // Why peers did not measure, once per reason.
+    std::map<std::string, int> reasons;
+    for (const std::string &p : peers) {
+      for (const Case &c : cases) {
+        const Outcome &o = results[p][c.name];
+        if (o.status != "PV_OK" && o.status.rfind("not computed", 0) != 0) ++reasons[p + ": " + o.status];
+      }
+    }
+    if (!reasons.empty()) std::printf("\n");
+    for (const auto &kv : reasons) std::printf("- %s (%d)\n", kv.first.c_str(), kv.second);
+  }
+
+  if (peers_max_error > 0) {
+    int bad = 0;
+    for (const std::string &p : peers) {
+      int measured = 0;
+      for (const Case &c : cases) {
+        const Outcome &o = results[p][c.name];
+        if (o.status != "PV_OK") continue;
+        ++measured;
+        if (std::fabs(100 * o.error) > peers_max_error) {
+          std::printf("FAIL %s %s: error %+.3f %% beyond %.1f %%\n", p.c_str(), c.name.c_str(),
+                      100 * o.error, peers_max_error);
+          ++bad;
+        }
+      }
+      if (measured == 0) {
+        std::printf("FAIL %s measured no case\n", p.c_str());
+        ++bad;
+      }
+    }
+    std::printf("\npeers: %s\n", bad ? "FAILED" : "all measured cases within the bound");
+    if (bad) return 1;
   }
 
   const std::string &m0 = methods[0];

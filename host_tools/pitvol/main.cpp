@@ -25,6 +25,8 @@ const char kUsage[] =
     "  --format NAME       ply, pcd, xyz, asc, csv (default: by extension)\n"
     "  --no-progress       no progress line on stderr\n"
     "  --layers FILE       write area against height per layer (CSV)\n"
+    "  --export-levelled FILE  write the points levelled (bottom at z = 0,\n"
+    "                      binary PLY) with the rim height as a comment\n"
     "  --help              this text\n"
     "  a FILE starting with '-': write ./-name, or put it after --\n"
     "exit codes: 0 measured, 2 usage, 3 unreadable or invalid input,\n"
@@ -79,6 +81,8 @@ int main(int argc, char **argv) {
       else return usage_error("--units must be mm, cm or m, not '" + opt.units + "'");
     } else if (a == "--layers" && has_value) {
       opt.layers_csv = argv[++i];
+    } else if (a == "--export-levelled" && has_value) {
+      opt.export_levelled = argv[++i];
     } else if (a == "--config" && has_value) {
       config_path = argv[++i];
     } else if (a == "--method" && has_value) {

@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "export_levelled.h"
 #include "pitvol/result_report.h"
 
 namespace pv::tools {
@@ -175,7 +176,7 @@ int run_measure(const MeasureOptions &opt) {
   // Fixed chunk: memory does not grow with the file.
   std::vector<pv_point_t> chunk(65536);
   Extent extent;
-  uint64_t points = 0;
+  uint64_t points = 0, exportable_points = 0;
   Progress progress(opt.progress, reader->bytes_total());
   for (;;) {
     const long n = reader->read(chunk.data(), chunk.size(), &err);
@@ -187,6 +188,7 @@ int run_measure(const MeasureOptions &opt) {
       p.y_mm = float(p.y_mm * opt.scale_to_mm);
       p.z_mm = float(p.z_mm * opt.scale_to_mm);
       extent.add(p);
+      if (exportable(p)) ++exportable_points;
     }
     points += uint64_t(n);
     pv_session_push(session, chunk.data(), size_t(n));
@@ -206,6 +208,12 @@ int run_measure(const MeasureOptions &opt) {
   if (layers.f != nullptr) {
     layers_written = write_layers(layers.f, session);
     layers_written = layers.close() && layers_written;
+  }
+  if (!opt.export_levelled.empty()) {
+    std::string xerr;
+    if (!export_levelled(opt, session, exportable_points, opt.export_levelled, &xerr)) {
+      std::fprintf(stderr, "pitvol: --export-levelled: %s\n", xerr.c_str());
+    }
   }
   const double total_ms = ms_since(t_start);
 

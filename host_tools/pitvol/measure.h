@@ -17,6 +17,7 @@ struct MeasureOptions {
   bool json = false;
   bool progress = true;      // only shown when stderr is a terminal
   std::string layers_csv;    // --layers FILE: per-layer detail, if not empty
+  std::string export_levelled;  // --export-levelled FILE: levelled PLY, if not empty
   pv_config_t cfg{};
 };
 

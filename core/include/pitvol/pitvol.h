@@ -199,6 +199,22 @@ typedef struct pv_layer_info {
 pv_status_t pv_session_layers(const pv_session_t *s, pv_layer_info_t *out,
                               size_t capacity, size_t *count_out);
 
+/* The levelling and the lid of the last estimate/finish, for tools that
+ * measure the same levelled cloud another way (the peers of the accuracy
+ * report, exports). Computed as measure() does: the final levelling fit on
+ * the order-independent sample, then the rim (ground peak, else wall top).
+ *   p_levelled = rotation * p_raw + translation_mm   (rotation row-major)
+ * The bottom plane is at levelled z = 0, the pit opens towards +z. Returns
+ * the levelling's failure status (nothing filled), or PV_ERR_NO_RIM with
+ * the transform filled and rim_mm < 0, else PV_OK. Uses only the block. */
+typedef struct pv_transform {
+  double rotation[9];
+  double translation_mm[3];
+  double rim_mm;        /* rim height above the bottom plane */
+  uint32_t rim_from_ground; /* 1: ground ring peak, 0: top of the wall */
+} pv_transform_t;
+pv_status_t pv_session_transform(pv_session_t *s, pv_transform_t *out);
+
 #ifdef __cplusplus
 }
 #endif

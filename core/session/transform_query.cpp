@@ -1,0 +1,85 @@
+// pv_session_transform(): the levelling transform and the rim height that
+// measure() uses, for host tools that measure the same levelled cloud with
+// another method (host_tools/peers). It repeats measure()'s stages 1 and 3
+// (final fit on the canonical sample; method surface: re-levelled on the
+// ground ring, else on the rim plane, level_for_surface(); rim from the rim
+// plane, else the ground peak, else the wall top over the per-layer
+// weights) rather than caching them in the session,
+// so the session layout does not change for a query tool. Keep it in step
+// with measure.cpp (test_transform_query checks they agree).
+#include <cmath>
+#include <cstring>
+#include <new>
+
+#include "rim/rim.h"
+#include "session/session_impl.h"
+
+namespace pv::session {
+
+namespace {
+
+// Per final layer point weights under t, as assign_layers() in measure.cpp
+// counts them (each stored point stands for 2^level points of its bin).
+void layer_weights(pv_session *s, const levelling::Transform &t) {
+  const uint32_t L = s->grid.layers;
+  for (uint32_t j = 0; j < L; ++j) s->layer_weight[j] = 0.0;
+  for (uint32_t b = 0; b < L; ++b) {
+    const P3 *pts = s->bins.points(b);
+    const double w = std::ldexp(1.0, s->bins.level(b));
+    for (uint32_t i = 0; i < s->bins.count(b); ++i) {
+      const int64_t j = s->grid.layer_of(t.level_z(pts[i]));
+      if (j >= 0) s->layer_weight[j] += w;
+    }
+  }
+}
+
+pv_status_t query(pv_session *s, pv_transform_t *out) {
+  establish_transform(s);
+  levelling::Transform t;
+  switch (fit_sample(s, &t)) {
+    case levelling::Status::Ok: break;
+    case levelling::Status::TooFewPoints: return PV_ERR_TOO_FEW_POINTS;
+    case levelling::Status::NoPlane: return PV_ERR_NO_BOTTOM_PLANE;
+  }
+  // As measure(): method surface re-levels (ground ring, else rim plane)
+  // before the layers are assigned.
+  double surface_rim_mm = -1.0;
+  if (s->cfg.method == PV_METHOD_SURFACE) surface_rim_mm = level_for_surface(s, &t);
+  layer_weights(s, t);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) out->rotation[3 * r + c] = t.R(r, c);
+    out->translation_mm[r] = t.t(r);
+  }
+  const uint32_t n = s->sample.size();
+  for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t.apply(s->sample_points[i]);
+  rim::Params rp;
+  rp.band_ratio = s->cfg.rim_band_ratio;
+  const rim::Ground g = rim::detect_ground(s->lv.a, n, rp, s->lv.v);
+  out->rim_from_ground = g.found ? 1u : 0u;
+  out->rim_mm = g.found ? g.z_mm : rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
+  if (surface_rim_mm > 0.0) {
+    out->rim_from_ground = 0u;  // the rim plane (no ground ring)
+    out->rim_mm = surface_rim_mm;
+  }
+  if (!(out->rim_mm > 0.0)) {
+    out->rim_mm = -1.0;
+    return PV_ERR_NO_RIM;
+  }
+  return PV_OK;
+}
+
+}  // namespace
+
+}  // namespace pv::session
+
+extern "C" pv_status_t pv_session_transform(pv_session_t *s, pv_transform_t *out) {
+  if (s == nullptr || out == nullptr) return PV_ERR_INVALID_ARGUMENT;
+  std::memset(out, 0, sizeof *out);
+  try {
+    return pv::session::query(s, out);
+  } catch (const std::bad_alloc &) {
+    return PV_ERR_OUT_OF_MEMORY;
+  } catch (...) {
+    return PV_ERR_INTERNAL;
+  }
+}
