@@ -14,17 +14,26 @@ double median_of(double *v, size_t n) {
   return v[n / 2];
 }
 
+// The top band of the levelled heights: from z_hi - band_ratio * z_hi to
+// z_hi, the 99.9 % quantile (a few far strays cannot stretch it).
+struct Band {
+  double z_from, z_hi;
+};
+Band top_band(const Eigen::Vector3d *pts, size_t n, const Params &p, double *scratch) {
+  for (size_t i = 0; i < n; ++i) scratch[i] = pts[i].z();
+  const size_t k = size_t(0.999 * double(n - 1));
+  std::nth_element(scratch, scratch + k, scratch + n);
+  const double z_hi = scratch[k];
+  return Band{z_hi - p.band_ratio * z_hi, z_hi};
+}
+
 }  // namespace
 
 Ground detect_ground(const Eigen::Vector3d *pts, size_t n, const Params &p,
                      double *scratch) {
   Ground g;
   if (n < 16) return g;
-  for (size_t i = 0; i < n; ++i) scratch[i] = pts[i].z();
-  const size_t k = size_t(0.999 * double(n - 1));
-  std::nth_element(scratch, scratch + k, scratch + n);
-  const double z_hi = scratch[k];
-  const double z_from = z_hi - p.band_ratio * z_hi;
+  const double z_from = top_band(pts, n, p, scratch).z_from;
 
   size_t m = 0;
   for (size_t i = 0; i < n; ++i) {
@@ -52,11 +61,8 @@ GroundPlane fit_ground_plane(const Eigen::Vector3d *pts, size_t n, const Params 
                              double *scratch, uint32_t *idx) {
   GroundPlane gp;
   if (n < 64) return gp;
-  for (size_t i = 0; i < n; ++i) scratch[i] = pts[i].z();
-  const size_t k = size_t(0.999 * double(n - 1));
-  std::nth_element(scratch, scratch + k, scratch + n);
-  const double z_hi = scratch[k];
-  const double z_from = z_hi - p.band_ratio * z_hi;
+  const Band band = top_band(pts, n, p, scratch);
+  const double z_from = band.z_from, z_hi = band.z_hi;
   size_t m = 0;
   for (size_t i = 0; i < n; ++i) {
     if (pts[i].z() >= z_from && pts[i].z() <= z_hi) idx[m++] = uint32_t(i);
