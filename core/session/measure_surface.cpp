@@ -106,14 +106,14 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   }
   // The section per 0.5 mm step goes to the layer detail (pv_session_layers)
   // through the area-sequence arrays, which this method does not use.
-  surface::Profile prof{reinterpret_cast<float *>(s->seq_z), reinterpret_cast<float *>(s->seq_area),
-                        reinterpret_cast<float *>(s->seq_scratch), s->grid.layers, 0};
+  surface::Profile prof{s->seq_z, s->seq_area, s->seq_scratch,
+                        std::min<size_t>(s->grid.layers, s->seq_scratch_cap), 0};
   const surface::Volume v = surface::integrate(s->surf, m, p, &prof);
   s->layer_info_count = 0;
   for (size_t i = 0; i < prof.n; ++i) {
-    const bool seen = prof.seen_share[i] >= 0.5f;
-    s->layer_info[s->layer_info_count++] =
-        pv_layer_info_t{prof.z_mm[i], prof.area_mm2[i], 0, uint8_t(seen ? 1 : 0), 0};
+    const bool seen = prof.seen_share[i] >= 0.5;
+    s->layer_info[s->layer_info_count++] = pv_layer_info_t{
+        float(prof.z_mm[i]), float(prof.area_mm2[i]), 0, uint8_t(seen ? 1 : 0), 0};
   }
   double max_section = 0;
   for (size_t i = 0; i < prof.n; ++i) max_section = std::max(max_section, double(prof.area_mm2[i]));

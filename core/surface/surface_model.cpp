@@ -760,9 +760,9 @@ Volume integrate(const Workspace &ws, const Model &m, const Params &p, Profile *
       vol += step;
       const double area = step / h;
       if (which == 0 && profile != nullptr && profile->n < profile->cap && zm >= 0) {
-        profile->z_mm[profile->n] = float(zm);
-        profile->area_mm2[profile->n] = float(area);
-        profile->seen_share[profile->n] = float(known_bins) / float(g.T);
+        profile->z_mm[profile->n] = zm;
+        profile->area_mm2[profile->n] = area;
+        profile->seen_share[profile->n] = double(known_bins) / double(g.T);
         ++profile->n;
       }
       if (which == 0) last_area = area;

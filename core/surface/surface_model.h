@@ -158,9 +158,9 @@ struct Volume {
 // Section area per integration step, for plots and pv_session_layers():
 // filled up to cap steps (bottom first) when not null.
 struct Profile {
-  float *z_mm;          // step centre
-  float *area_mm2;
-  float *seen_share;    // share of the step's wall seen or bridged short
+  double *z_mm;         // step centre
+  double *area_mm2;
+  double *seen_share;   // share of the step's wall seen or bridged short
   size_t cap;
   size_t n;
 };

@@ -48,7 +48,7 @@ int pv_fb_blit(const pv_canvas_t *c, const pv_fb_format_t *fmt, uint8_t *fb, siz
   if (fmt->red_length > 8 || fmt->green_length > 8 || fmt->blue_length > 8) return -1;
   const size_t bpp = fmt->bits_per_pixel / 8u;
   if (line_bytes < (size_t)c->width * bpp) return -1;
-  uint32_t lut[PV_COLOR_COUNT];
+  uint32_t lut[PV_COLOR_COUNT] = {0};
   for (int i = 0; i < PV_COLOR_COUNT; ++i) {
     const uint32_t rgb = pv_palette_rgb[i];
     lut[i] = channel((rgb >> 16) & 0xFFu, fmt->red_offset, fmt->red_length) |
