@@ -31,6 +31,7 @@ extern "C" void pv_config_default(pv_config_t *cfg) {
   cfg->mad_split_mm = 30.0f;
   cfg->max_unseen_share = 0.30f;   // docs/method.md (method surface)
   cfg->max_opening_tilt_deg = 90.0f;  // docs/reliability.md (plausibility)
+  cfg->duplicate_filter = 1;
 }
 
 namespace {
@@ -74,6 +75,7 @@ extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **f
   else if (!in_range(cfg->mad_split_mm, 0.0f, 1000.0f)) bad = "mad_split_mm";
   else if (!in_range(cfg->max_unseen_share, 0.0f, 1.0f)) bad = "max_unseen_share";
   else if (!in_range(cfg->max_opening_tilt_deg, 0.0f, 180.0f)) bad = "max_opening_tilt_deg";
+  else if (cfg->duplicate_filter > 1) bad = "duplicate_filter";
   if (field_out != nullptr) *field_out = bad;
   return bad == nullptr ? PV_OK : PV_ERR_INVALID_CONFIG;
 }

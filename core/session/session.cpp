@@ -98,8 +98,10 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->lv.c = cv.take<Eigen::Vector3d>(k);
   o->lv.v = cv.take<double>(k);
   o->warmup = cv.take<P3>(c.warmup_points);
-  void *dup_mem = cv.take<uint64_t>(binning::DuplicateFilter::bytes_needed() / sizeof(uint64_t));
-  if (block != nullptr) o->duplicates.init(dup_mem);
+  if (c.duplicate_filter != 0) {
+    void *dup_mem = cv.take<uint64_t>(binning::DuplicateFilter::bytes_needed() / sizeof(uint64_t));
+    if (block != nullptr) o->duplicates.init(dup_mem);
+  }
 
   void *bins_mem = cv.take<unsigned char>(binning::LayerBins::bytes_needed(layers, c.points_per_layer));
   if (block != nullptr) o->bins.init(bins_mem, layers, c.points_per_layer);
@@ -144,7 +146,7 @@ void reset_counters(pv_session *s) {
   s->finished = false;
   s->points_in = s->points_invalid = s->points_out_of_range = 0;
   s->points_duplicate = s->points_accepted = 0;
-  s->duplicates.clear();
+  if (s->cfg.duplicate_filter != 0) s->duplicates.clear();
   s->sample.clear();
   session::set_provisional(s, levelling::Transform{});
   s->have_transform = false;
@@ -199,7 +201,8 @@ extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points
   constexpr size_t kBatch = binning::DuplicateFilter::kBatch;
   for (size_t base = 0; base < count; base += kBatch) {
     const size_t m = count - base < kBatch ? count - base : kBatch;
-    const uint64_t duplicate = s->duplicates.filter_batch(points + base, m);
+    const uint64_t duplicate =
+        s->cfg.duplicate_filter != 0 ? s->duplicates.filter_batch(points + base, m) : 0;
     for (size_t k = 0; k < m; ++k) {
       const pv_point_t &q = points[base + k];
       ++s->points_in;

@@ -75,6 +75,7 @@ pv_status_t query(pv_session *s, pv_transform_t *out) {
 extern "C" pv_status_t pv_session_transform(pv_session_t *s, pv_transform_t *out) {
   if (s == nullptr || out == nullptr) return PV_ERR_INVALID_ARGUMENT;
   std::memset(out, 0, sizeof *out);
+#if defined(__cpp_exceptions)  // as pv_session_finish: nothing escapes the ABI
   try {
     return pv::session::query(s, out);
   } catch (const std::bad_alloc &) {
@@ -82,4 +83,7 @@ extern "C" pv_status_t pv_session_transform(pv_session_t *s, pv_transform_t *out
   } catch (...) {
     return PV_ERR_INTERNAL;
   }
+#else
+  return pv::session::query(s, out);
+#endif
 }

@@ -18,6 +18,8 @@ static inline void pv_mcu_config(pv_config_t *cfg) {
   // the 786 KB floor store) does not fit yet: the MCU runs the paper's
   // method until a compact surface summary exists (docs/targets.md).
   cfg->method = PV_METHOD_PAPER;
+  // The duplicate filter's fixed 1 MiB does not fit either (docs/targets.md).
+  cfg->duplicate_filter = 0;
   cfg->layer_mm = 2.0f;            // the thickest layer allowed (default 0.5)
   cfg->max_layers = 176;           // 352 mm of depth range
   cfg->points_per_layer = 128;     // default 1024

@@ -43,6 +43,7 @@ const Field kFields[] = {
     {"mad_split_mm", &pv_config_t::mad_split_mm, nullptr},
     {"max_unseen_share", &pv_config_t::max_unseen_share, nullptr},
     {"max_opening_tilt_deg", &pv_config_t::max_opening_tilt_deg, nullptr},
+    {"duplicate_filter", nullptr, &pv_config_t::duplicate_filter},
 };
 
 std::string trim(const std::string &s) {

@@ -110,6 +110,9 @@ typedef struct pv_config {
   /* method surface (docs/method.md) */
   float max_unseen_share;       /* refuse (PV_ERR_WALL_GAP) when more of the
                                    volume than this rests on unseen wall */
+  uint32_t duplicate_filter;    /* 1: drop resent points (a fixed 1 MiB of
+                                   the block, docs/reliability.md); 0: none
+                                   (the MCU profile, whose block is 512 KB) */
   float max_opening_tilt_deg;   /* the pit's opening must face within this
                                    angle of the scanner frame's +Z (up, away
                                    from the ground); else PV_ERR_NOT_A_PIT (a
