@@ -84,11 +84,12 @@ def outlines(ex):
         oy = np.array([float(r["y_mm"]) for r in sel])
         unseen = np.array([r["state"] in ("unseen", "none") for r in sel])
         px, py = _points_near(ex, h, band)
-        ax.plot(px, py, ".", ms=1.5, color="#9e9e9e", label=f"points ±{band:g} mm")
-        ax.plot(ox, oy, "-", lw=1.4, color="#1565c0", label="fitted wall")
+        ax.plot(px, py, ".", ms=3.0, color="#9e9e9e", label=f"points ±{band:g} mm",
+                rasterized=True, zorder=1)
+        ax.plot(ox, oy, "-", lw=0.9, color="#1565c0", label="fitted wall", zorder=3)
         if unseen.any():
             m = np.where(unseen, oy, np.nan)
-            ax.plot(ox, m, "-", lw=2.6, color="#e65100", label="bridged (unseen)")
+            ax.plot(ox, m, "-", lw=2.6, color="#e65100", label="bridged (unseen)", zorder=2)
         pad = 25.0
         ax.set_xlim(ox.min() - pad, ox.max() + pad)
         ax.set_ylim(oy.min() - pad, oy.max() + pad)
@@ -157,7 +158,7 @@ def side_view(ex):
     zlo, zhi = np.percentile(z, [0.5, 99.5])
     span = np.percentile(np.hypot(x - cx, y - cy), 99.0) * 1.05
     for ax, u, c, name in ((axes[0], x, cx, "x"), (axes[1], y, cy, "y")):
-        ax.plot(u - c, z, ",", color="#616161", alpha=0.6)
+        ax.plot(u - c, z, ",", color="#616161", alpha=0.6, rasterized=True)
         ax.axhline(0.0, color="#6d4c41", lw=1.5, label="floor plane (z = 0)")
         if rim:
             ax.axhline(rim, color="#1565c0", lw=1.5, ls="--", label=f"rim ({rim:.1f} mm)")
@@ -182,6 +183,9 @@ def _section(ax, ex, angle_deg):
     T = g["theta_bins"]
     t0 = int(round(angle_deg / 360.0 * T - 0.5)) % T
     t1 = (t0 + T // 2) % T
+    # The axis leans: the wall is drawn where it is, relative to the
+    # axis at z = 0 as the points are.
+    lean = g["axis_dx"] if angle_deg == 0.0 else g["axis_dy"]
     zs, r0, r1 = [], [], []
     for k in range(g["z_bins"]):
         a, b = ex.wall[k * T + t0], ex.wall[k * T + t1]
@@ -189,8 +193,8 @@ def _section(ax, ex, angle_deg):
         if zk < 0 or (ex.rim_mm and zk > ex.rim_mm):
             continue
         zs.append(zk)
-        r0.append(float(a["radius_mm"]))
-        r1.append(-float(b["radius_mm"]))
+        r0.append(lean * zk + float(a["radius_mm"]))
+        r1.append(lean * zk - float(b["radius_mm"]))
     ax.plot(r0, zs, "-", color="#e65100", lw=1.2, label="fitted wall")
     ax.plot(r1, zs, "-", color="#e65100", lw=1.2)
 
