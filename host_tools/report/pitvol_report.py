@@ -214,8 +214,15 @@ def main(argv):
     ap.add_argument("--pitvol", help="the pitvol program (default: beside this tool, else PATH)")
     ap.add_argument("--mass-g", type=float, help="wet mass of the excavated soil, g: density")
     ap.add_argument("--moisture-percent", type=float, help="water content, %% of the dry mass")
-    ap.add_argument("measure_args", nargs="*", help="after --: options for pitvol measure")
+    ap.epilog = "options after -- go to pitvol measure (e.g. -- --units m --method paper)"
+    # Split at "--" here: argparse would take the first option after it as
+    # the source's neighbour and refuse it.
+    measure_args = []
+    if "--" in argv:
+        cut = argv.index("--")
+        argv, measure_args = argv[:cut], argv[cut + 1:]
     a = ap.parse_args(argv)
+    a.measure_args = measure_args
     if a.mass_g is not None and not a.mass_g > 0:
         fail(2, "--mass-g must be > 0")
 

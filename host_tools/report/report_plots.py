@@ -50,11 +50,18 @@ def area_profile(ex):
         ax.plot(z[~kept & ok], a[~kept & ok], "x", ms=4, color="#c62828",
                 label="rejected layer" if ex.model.get("wall_grid") is None
                 else "layer mostly unseen")
+    unseen = [r["unseen_share"] for r in ex.layers]
+    if all(u != "" for u in unseen):  # surface: the share of each layer's wall not seen
+        share = np.array([float(u) for u in unseen])
+        top = np.nanmax(a[ok]) if ok.any() else 1.0
+        ax.fill_between(z, 0, share * top, color="#e65100", alpha=0.25, lw=0,
+                        label="wall not seen at that height (0..100 % of the axis)")
     if ex.rim_mm:
         ax.axvline(ex.rim_mm, color="k", lw=1, ls="--", label=f"rim {ex.rim_mm:.1f} mm")
     ax.axvline(0.0, color="#6d4c41", lw=1, label="floor plane")
     ax.set_xlabel("height above the floor plane (mm)")
     ax.set_ylabel("section area (cm²)")
+    ax.set_ylim(0, (np.nanmax(a[ok]) if ok.any() else 1.0) * 1.08)
     ax.set_title("Area against height, per 0.5 mm layer")
     ax.grid(alpha=0.3)
     ax.legend(loc="lower right", fontsize=8)
