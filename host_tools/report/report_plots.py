@@ -53,9 +53,13 @@ def area_profile(ex):
     unseen = [r["unseen_share"] for r in ex.layers]
     if all(u != "" for u in unseen):  # surface: the share of each layer's wall not seen
         share = np.array([float(u) for u in unseen])
-        top = np.nanmax(a[ok]) if ok.any() else 1.0
-        ax.fill_between(z, 0, share * top, color="#e65100", alpha=0.25, lw=0,
-                        label="wall not seen at that height (0..100 % of the axis)")
+        ax2 = ax.twinx()
+        ax2.fill_between(z, 0, 100 * share, color="#e65100", alpha=0.25, lw=0)
+        ax2.set_ylim(0, 100)
+        ax2.set_ylabel("wall not seen at that height (%)", color="#e65100")
+        ax2.tick_params(axis="y", colors="#e65100")
+        ax.set_zorder(ax2.get_zorder() + 1)  # the area curve over the shading
+        ax.patch.set_visible(False)
     if ex.rim_mm:
         ax.axvline(ex.rim_mm, color="k", lw=1, ls="--", label=f"rim {ex.rim_mm:.1f} mm")
     ax.axvline(0.0, color="#6d4c41", lw=1, label="floor plane")

@@ -8,8 +8,11 @@
   chromium WORK       headless Chromium renders the page: non-blank screenshot
                       (exit 77 = skipped, with the reason, if it is missing)
   methods BIN WORK    method paper and a refused scan (not a pit) make pages
+  accuracy BIN WORK   pitvol-accuracy --html on a two-scan corpus: the page,
+                      its images, the results CSV
 """
 import base64
+import csv
 import html.parser
 import io
 import json
@@ -240,6 +243,44 @@ def cmd_methods(bin_dir, work):
     print("paper and refused pages made")
 
 
+def cmd_accuracy(bin_dir, page_work, work):
+    """A two-case corpus (the fixture's necking scan and a cylinder), both
+    methods: the page has the summary and three non-blank plots."""
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    run([os.path.join(bin_dir, "pitvol-sim"), "scan", "--family", "cylinder", "--seed", "2",
+         "--points", "150000", "--out", os.path.join(work, "cyl")])
+    shutil.copy(os.path.join(page_work, "scan.ply"), os.path.join(work, "neck.ply"))
+    exact = {}
+    for name, src in (("cyl", os.path.join(work, "cyl.json")),
+                      ("neck", os.path.join(page_work, "scan.json"))):
+        with open(src) as f:
+            exact[name] = json.load(f)["exact_volume_cm3"]
+    with open(os.path.join(work, "manifest.csv"), "w") as f:
+        f.write("case,family,ground,seed,noise_mm,points,tilt_deg,exact_volume_cm3,set,stress\n")
+        f.write(f"cyl,cylinder,1,2,0.02,150000,0,{exact['cyl']:.6f},test,none\n")
+        f.write(f"neck,necking,1,4,0.02,300000,0,{exact['neck']:.6f},test,none\n")
+    out = os.path.join(work, "accuracy.html")
+    run([os.path.join(bin_dir, "pitvol-accuracy"), work, "--method", "surface", "--method", "paper",
+         "--html", out])
+    with open(os.path.join(work, "accuracy-results.csv")) as f:
+        rows = list(csv.DictReader(f))
+    check(len(rows) == 4, f"{len(rows)} result rows, expected 2 cases x 2 methods")
+    for r in rows:
+        if r["status"] == "PV_OK":
+            err = (float(r["volume_cm3"]) - float(r["exact_cm3"])) / float(r["exact_cm3"]) * 100
+            check(math.isclose(err, float(r["error_pct"]), abs_tol=1e-4), f"error of {r['case']}")
+    p = parse_page(out)
+    check(p.figures == ["error", "mean", "interval"], f"accuracy figures {p.figures}")
+    for fid, src in zip(p.figures, p.images):
+        check_png(base64.b64decode(src.split(",", 1)[1]), f"accuracy {fid}")
+    with open(out, encoding="utf-8") as f:
+        text = f.read()
+    for m in ("surface", "paper"):
+        check(f'data-method="{m}"' in text, f"summary lacks {m}")
+    print("accuracy page: 3 images, 4 results")
+
+
 def main(argv):
     if len(argv) == 3 and argv[0] == "make":
         return cmd_make(argv[1], argv[2]) or 0
@@ -249,6 +290,8 @@ def main(argv):
         return cmd_chromium(argv[1])
     if len(argv) == 3 and argv[0] == "methods":
         return cmd_methods(argv[1], argv[2]) or 0
+    if len(argv) == 4 and argv[0] == "accuracy":
+        return cmd_accuracy(argv[1], argv[2], argv[3]) or 0
     print(__doc__, file=sys.stderr)
     return 2
 
