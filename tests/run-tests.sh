@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every test: install what is missing, then
 #  1. Release (build/): every CTest label registered by default (unit,
-#     corpus, usb, cli, serial, e2e);
+#     corpus, usb, cli, serial, e2e, report: about 30 s, docs/report.md);
 #  2. Debug with ASan + UBSan (build-debug/): unit, usb, cli and a sixth of
 #     the corpus, under the sanitizers (label slow stays in Release);
 #  3. the libFuzzer harnesses, a fixed number of executions each (fuzz);
