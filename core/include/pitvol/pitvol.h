@@ -218,20 +218,21 @@ typedef struct pv_transform {
 } pv_transform_t;
 pv_status_t pv_session_transform(pv_session_t *s, pv_transform_t *out);
 
-/* The surface model's wall grid of the last estimate/finish (method
- * surface), for plots and reports: the wall's radius around the pit's axis
- * on theta_bins x z_bins bins, in the levelled frame of
- * pv_session_transform() (bottom plane at z = 0). Bin (t, k) is entry
- * k * theta_bins + t: angle centre (t + 0.5) * 360 / theta_bins degrees
- * (atan2(y - axis_y, x - axis_x), counter-clockwise from +x), height centre
- * z0_mm + (k + 0.5) * dz_mm. The axis leans: its centre at height z is
- * (axis_x_mm + axis_dx * z, axis_y_mm + axis_dy * z). radius_mm holds the
- * wall radius the volume was integrated with (bridged where unseen); state
- * one PV_WALL_* per bin. Rebuilt from the stored points as finish() built
- * it (uses only the block). With radius_mm and state NULL only grid is
- * filled; else capacity must hold theta_bins * z_bins entries
- * (PV_ERR_INVALID_ARGUMENT otherwise, grid filled). PV_ERR_WRONG_STATE for
- * the per-layer methods (paper, polar), which have no wall grid. */
+/* The surface model's wall grid (method surface), for plots and reports:
+ * the wall's radius around the pit's axis on theta_bins x z_bins bins, in
+ * the levelled frame of pv_session_transform() (bottom plane at z = 0).
+ * Bin (t, k) is entry k * theta_bins + t: angle centre (t + 0.5) * 360 /
+ * theta_bins degrees (atan2(y - axis_y, x - axis_x), counter-clockwise
+ * from +x), height centre z0_mm + (k + 0.5) * dz_mm. The axis leans: its
+ * centre at height z is (axis_x_mm + axis_dx * z, axis_y_mm + axis_dy * z).
+ * radius_mm holds the wall radius the volume is integrated with (bridged
+ * where unseen); state one PV_WALL_* per bin. Rebuilt from the points
+ * stored so far as finish() builds it (after finish: the grid the volume
+ * was integrated over); uses only the block, like pv_session_transform().
+ * With radius_mm and state NULL only grid is filled; else capacity must
+ * hold theta_bins * z_bins entries (PV_ERR_INVALID_ARGUMENT otherwise,
+ * grid filled). PV_ERR_WRONG_STATE for the per-layer methods (paper,
+ * polar), which have no wall grid. */
 #define PV_WALL_NONE 0          /* no value (nothing seen around it) */
 #define PV_WALL_SEEN 1          /* the scan saw this wall */
 #define PV_WALL_FLOOR 2         /* floor points: the floor map bounds the void */
