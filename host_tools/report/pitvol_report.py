@@ -16,7 +16,6 @@ import argparse
 import base64
 import html
 import io
-import json
 import os
 import shutil
 import subprocess

@@ -2,8 +2,6 @@
 
 Each function takes an Export (report_data.py) and returns a matplotlib
 Figure, or None when the export has nothing to draw it from."""
-import math
-
 import matplotlib
 
 matplotlib.use("Agg")  # files only: no display on a field laptop's CI
@@ -225,6 +223,3 @@ def close(figs):
         if f is not None:
             plt.close(f)
 
-
-def finite(v):
-    return v is not None and isinstance(v, (int, float)) and math.isfinite(v)
