@@ -2,9 +2,11 @@
 """The scan report (label report, docs/report.md), one CTest test per step:
 
   make BIN WORK       fixture: a corpus scan (pitvol-sim, family necking),
-                      pitvol measure --json, pitvol-report --pdf, two exports
+                      pitvol measure --json, pitvol-report --pdf, two exports,
+                      the page again from an export
   page WORK           the HTML parses, every image is a non-blank PNG, the
-                      result block equals the JSON, the PDF and the export
+                      result block equals the JSON, the PDF, the export
+                      (bounded, deterministic), the same page bit for bit
   chromium WORK       headless Chromium renders the page: non-blank screenshot
                       (exit 77 = skipped, with the reason, if it is missing)
   methods BIN WORK    method paper and a refused scan (not a pit) make pages
@@ -130,6 +132,10 @@ def cmd_make(bin_dir, work):
          "--moisture-percent", str(MOISTURE)])
     for d in ("export1", "export2"):
         run([os.path.join(bin_dir, "pitvol"), "measure", scan, "--export", os.path.join(work, d)])
+    # The same page again, from the export directory instead of the scan.
+    run([os.path.join(bin_dir, "pitvol-report"), os.path.join(work, "export1"), "--out",
+         os.path.join(work, "page_from_export.html"), "--mass-g", str(MASS_G),
+         "--moisture-percent", str(MOISTURE)])
     print("report fixture made in", work)
 
 
@@ -183,6 +189,10 @@ def cmd_page(work):
     g = model["wall_grid"]
     with open(os.path.join(e1, "wall_grid.csv")) as f:
         check(sum(1 for _ in f) - 1 == g["theta_bins"] * g["z_bins"], "wall_grid.csv rows")
+    # Same input, same bits: the page from the scan and from its export.
+    with open(os.path.join(work, "page.html"), "rb") as a, \
+            open(os.path.join(work, "page_from_export.html"), "rb") as b:
+        check(a.read() == b.read(), "the page from the export differs from the page from the scan")
     print(f"page: {len(page.images)} images, {len(NUMBERS)} numbers equal, pdf {pages} pages")
 
 
