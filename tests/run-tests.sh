@@ -13,7 +13,7 @@
 # holdout, stress, slow under the sanitizers, long fuzzing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-toolchain/install-deps.sh --cross
+toolchain/install-deps.sh --cross --browser  # --browser: the report label
 jobs=$(nproc)
 
 cmake --preset default >/dev/null

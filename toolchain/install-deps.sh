@@ -1,19 +1,23 @@
 #!/usr/bin/env bash
 # Installs the Debian packages pitvol builds and tests with, and only those
 # that are missing, so it is cheap to run before every build (idempotent).
-# Usage: toolchain/install-deps.sh [--cross] [--peers] [extra-package ...]
+# Usage: toolchain/install-deps.sh [--cross] [--peers] [--browser] [extra-package ...]
 #   --cross  also the board (aarch64) and MCU (Cortex-M7) toolchains and
 #            emulators, cppcheck, and the arm64 cmocka (docs/targets.md).
 #   --peers  also the peer programs of the accuracy report (CloudCompare,
 #            about 200 MB; only the `peers` CTest label needs it).
+#   --browser  also headless Chromium (about 360 MB), which the `report`
+#            CTest label opens the scan report in (docs/report.md).
 set -euo pipefail
 
 cross=0
 peer_packages=()
+browser_packages=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --cross) cross=1; shift ;;
     --peers) peer_packages=(cloudcompare); shift ;;
+    --browser) browser_packages=(chromium); shift ;;
     *) break ;;
   esac
 done
@@ -30,6 +34,8 @@ packages=(
   nanopb libnanopb-dev      # serial link messages (firmware/link/pitvol_link.proto)
   clang-14 libfuzzer-14-dev libclang-rt-14-dev  # fuzz/: libFuzzer + ASan/UBSan runtimes
   "${peer_packages[@]}"
+  python3-matplotlib    # pitvol-report's plots (host_tools/report, /usr/bin/python3)
+  "${browser_packages[@]}"
   "$@"
 )
 if [ $cross -eq 1 ]; then

@@ -7,7 +7,11 @@
 //                       [--peers grid25,cloudcompare,poisson] [--peers-cache DIR]
 //                       [--peers-cached-only] [--case NAME ...]
 //                       [--peers-max-error PCT] [--grid-mm 1] [--cc-grid-mm 2]
+//                       [--html OUT.html]
 //
+// --html writes the results per case and method to OUT-results.csv (the
+// .html replaced) and makes OUT.html from it with build/report/
+// accuracy_plots.py under /usr/bin/python3 (matplotlib; docs/report.md).
 // --peers-max-error (the CTest label peers): fails unless every peer
 // measured at least one case and each measured case is within PCT, a
 // check that the peers run and read the clouds right, not a goal.
@@ -191,12 +195,55 @@ struct Stats {
   }
 };
 
+// --html: the results as CSV, then the plotting script on them.
+int write_html(const std::string &out, const std::vector<Case> &cases,
+               const std::vector<std::string> &methods, const std::vector<std::string> &peers,
+               std::map<std::string, std::map<std::string, Outcome>> &results) {
+  const size_t dot = out.rfind(".html");
+  const std::string csv = (dot == std::string::npos ? out : out.substr(0, dot)) + "-results.csv";
+  {
+    std::ofstream f(csv);
+    f << "case,family,method,peer,exact_cm3,volume_cm3,interval_cm3,error_pct,status\n";
+    char b[512];
+    std::vector<std::string> all = methods;
+    all.insert(all.end(), peers.begin(), peers.end());
+    for (const std::string &m : all) {
+      const bool peer = std::find(peers.begin(), peers.end(), m) != peers.end();
+      for (const Case &c : cases) {
+        const Outcome &o = results[m][c.name];
+        if (o.status.rfind("not computed", 0) == 0) continue;  // a slow peer not run yet
+        std::snprintf(b, sizeof b, "%s,%s,%s,%d,%.6f,%.6f,%.6f,%.6f,", c.name.c_str(),
+                      c.family.c_str(), m.c_str(), peer ? 1 : 0, c.exact_cm3, o.volume_cm3,
+                      o.interval_cm3, 100 * o.error);
+        std::string status = o.status;
+        std::replace(status.begin(), status.end(), ',', ';');
+        f << b << status << "\n";
+      }
+    }
+    if (!f) {
+      std::fprintf(stderr, "pitvol-accuracy: cannot write %s\n", csv.c_str());
+      return 3;
+    }
+  }
+  const std::string script = self_dir() + "/../report/accuracy_plots.py";
+  const std::string cmd = "/usr/bin/python3 '" + script + "' '" + csv + "' '" + out + "'";
+  std::fflush(stdout);  // the tables before the script's line
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0) {
+    std::fprintf(stderr, "pitvol-accuracy: %s failed (exit %d): is python3-matplotlib installed "
+                 "(toolchain/install-deps.sh)?\n", cmd.c_str(), rc);
+    return 5;
+  }
+  return 0;
+}
+
 const char kUsage[] =
     "usage: pitvol-accuracy CORPUS_DIR [--markdown] [--method NAME ...]\n"
     "                       [--write-expected FILE] [--check FILE] [--every N]\n"
     "                       [--peers grid25,cloudcompare,poisson] [--peers-cache DIR]\n"
     "                       [--peers-cached-only] [--case NAME ...]\n"
     "                       [--peers-max-error PCT] [--grid-mm 1] [--cc-grid-mm 2]\n"
+    "                       [--html OUT.html]\n"
     "       pitvol-accuracy --help\n";
 
 int usage() {
@@ -216,7 +263,7 @@ int main(int argc, char **argv) {
   if (argc < 2) return usage();
   const std::string dir = argv[1];
   std::vector<std::string> methods;
-  std::string write_expected, check;
+  std::string write_expected, check, html_out;
   bool markdown = false;
   long every = 1;  // --every N: every N-th case only (the sanitizer build)
   std::vector<std::string> peers, only_cases;
@@ -244,6 +291,7 @@ int main(int argc, char **argv) {
     else if (a == "--method" && i + 1 < argc) methods.push_back(argv[++i]);
     else if (a == "--write-expected" && i + 1 < argc) write_expected = argv[++i];
     else if (a == "--check" && i + 1 < argc) check = argv[++i];
+    else if (a == "--html" && i + 1 < argc) html_out = argv[++i];
     else if (a == "--every" && i + 1 < argc && (every = std::atol(argv[++i])) >= 1) continue;
     else return usage();
   }
@@ -388,6 +436,11 @@ int main(int argc, char **argv) {
     }
     std::printf("\npeers: %s\n", bad ? "FAILED" : "all measured cases within the bound");
     if (bad) return 1;
+  }
+
+  if (!html_out.empty()) {
+    const int rc = write_html(html_out, cases, methods, peers, results);
+    if (rc != 0) return rc;
   }
 
   const std::string &m0 = methods[0];

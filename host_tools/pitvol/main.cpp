@@ -27,6 +27,9 @@ const char kUsage[] =
     "  --layers FILE       write area against height per layer (CSV)\n"
     "  --export-levelled FILE  write the points levelled (bottom at z = 0,\n"
     "                      binary PLY) with the rim height as a comment\n"
+    "  --export DIR        write what a report plots into DIR: levelled points,\n"
+    "                      layers, coverage, wall grid, outlines, the result\n"
+    "                      (docs/report.md; pitvol-report makes the page)\n"
     "  --help              this text\n"
     "  a FILE starting with '-': write ./-name, or put it after --\n"
     "exit codes: 0 measured, 2 usage, 3 unreadable or invalid input,\n"
@@ -83,6 +86,8 @@ int main(int argc, char **argv) {
       opt.layers_csv = argv[++i];
     } else if (a == "--export-levelled" && has_value) {
       opt.export_levelled = argv[++i];
+    } else if (a == "--export" && has_value) {
+      opt.export_dir = argv[++i];
     } else if (a == "--config" && has_value) {
       config_path = argv[++i];
     } else if (a == "--method" && has_value) {

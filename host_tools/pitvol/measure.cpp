@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "export_levelled.h"
+#include "export_report.h"
 #include "pitvol/result_report.h"
 
 namespace pv::tools {
@@ -160,6 +161,14 @@ int run_measure(const MeasureOptions &opt) {
     }
   }
 
+  if (!opt.export_dir.empty()) {
+    std::string xerr;
+    if (!prepare_export_dir(opt.export_dir, &xerr)) {
+      std::fprintf(stderr, "pitvol: --export: %s\n", xerr.c_str());
+      return kExitUsage;
+    }
+  }
+
   size_t bytes = 0;
   if (pv_session_size(&opt.cfg, &bytes) != PV_OK) {
     std::fprintf(stderr, "pitvol: invalid configuration\n");
@@ -223,19 +232,26 @@ int run_measure(const MeasureOptions &opt) {
   warning_texts(r.warnings, &warnings);
 
   const bool ok = st == PV_OK;
+  JsonObject timings;
+  timings.num("read_and_push", read_ms).num("finish", finish_ms).num("total", total_ms);
+  JsonObject o;
+  o.str("pitvol_version", PV_VERSION_STRING)
+      .str("method", pv_method_name(opt.cfg.method))
+      .str("file", opt.path)
+      .str("units", opt.units)
+      .str("status", pv_status_name(st))
+      .str("message", pv_status_message(st));
+  add_result_fields(&o, r, ok);
+  o.strings("warnings", warnings).raw("timings_ms", timings.text());
+  // --export after the result: a refused scan is exported too (the report
+  // shows why), and the files carry the same JSON as --json.
+  bool exported = true;
+  if (!opt.export_dir.empty()) {
+    std::string xerr;
+    exported = export_report(opt, session, r, exportable_points, o.text(), &xerr);
+    if (!exported) std::fprintf(stderr, "pitvol: --export: %s\n", xerr.c_str());
+  }
   if (opt.json) {
-    JsonObject timings;
-    timings.num("read_and_push", read_ms).num("finish", finish_ms).num("total", total_ms);
-    JsonObject o;
-    o.str("pitvol_version", PV_VERSION_STRING)
-        .str("method", pv_method_name(opt.cfg.method))
-        .str("file", opt.path)
-        .str("units", opt.units)
-        .str("status", pv_status_name(st))
-        .str("message", pv_status_message(st));
-    add_result_fields(&o, r, ok);
-    o.strings("warnings", warnings)
-        .raw("timings_ms", timings.text());
     std::printf("%s\n", o.text().c_str());
   } else if (ok) {
     print_result_summary(stdout, r, opt.cfg.method);
@@ -246,6 +262,11 @@ int run_measure(const MeasureOptions &opt) {
   if (!ok) {
     print_refusal(stderr, "pitvol", st, r);
     return (st == PV_ERR_INTERNAL || st == PV_ERR_OUT_OF_MEMORY) ? kExitInternal : kExitNoMeasurement;
+  }
+  if (!exported) {
+    std::fprintf(stderr, "pitvol: writing --export %s failed; the result above is valid\n",
+                 opt.export_dir.c_str());
+    return kExitInternal;
   }
   if (!layers_written) {
     std::fprintf(stderr, "pitvol: writing --layers %s failed (disk full?); the result above is valid\n",

@@ -18,6 +18,7 @@ struct MeasureOptions {
   bool progress = true;      // only shown when stderr is a terminal
   std::string layers_csv;    // --layers FILE: per-layer detail, if not empty
   std::string export_levelled;  // --export-levelled FILE: levelled PLY, if not empty
+  std::string export_dir;    // --export DIR: files for a report, if not empty
   pv_config_t cfg{};
 };
 

@@ -218,6 +218,35 @@ typedef struct pv_transform {
 } pv_transform_t;
 pv_status_t pv_session_transform(pv_session_t *s, pv_transform_t *out);
 
+/* The surface model's wall grid of the last estimate/finish (method
+ * surface), for plots and reports: the wall's radius around the pit's axis
+ * on theta_bins x z_bins bins, in the levelled frame of
+ * pv_session_transform() (bottom plane at z = 0). Bin (t, k) is entry
+ * k * theta_bins + t: angle centre (t + 0.5) * 360 / theta_bins degrees
+ * (atan2(y - axis_y, x - axis_x), counter-clockwise from +x), height centre
+ * z0_mm + (k + 0.5) * dz_mm. The axis leans: its centre at height z is
+ * (axis_x_mm + axis_dx * z, axis_y_mm + axis_dy * z). radius_mm holds the
+ * wall radius the volume was integrated with (bridged where unseen); state
+ * one PV_WALL_* per bin. Rebuilt from the stored points as finish() built
+ * it (uses only the block). With radius_mm and state NULL only grid is
+ * filled; else capacity must hold theta_bins * z_bins entries
+ * (PV_ERR_INVALID_ARGUMENT otherwise, grid filled). PV_ERR_WRONG_STATE for
+ * the per-layer methods (paper, polar), which have no wall grid. */
+#define PV_WALL_NONE 0          /* no value (nothing seen around it) */
+#define PV_WALL_SEEN 1          /* the scan saw this wall */
+#define PV_WALL_FLOOR 2         /* floor points: the floor map bounds the void */
+#define PV_WALL_SHORT_BRIDGE 3  /* bridged over a short gap: counts as seen */
+#define PV_WALL_UNSEEN 4        /* not seen, bridged from around (interval) */
+typedef struct pv_wall_grid {
+  double axis_x_mm, axis_y_mm; /* the axis at z = 0 */
+  double axis_dx, axis_dy;     /* its lean, mm per mm of height */
+  double z0_mm, dz_mm;         /* bottom of the grid, bin height */
+  double rim_mm;               /* rim height (as pv_result_t.depth_mm) */
+  uint32_t theta_bins, z_bins;
+} pv_wall_grid_t;
+pv_status_t pv_session_wall_grid(pv_session_t *s, pv_wall_grid_t *grid, float *radius_mm,
+                                 uint8_t *state, size_t capacity);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,110 @@
+// pv_session_wall_grid(): the surface model's wall grid of the last
+// measurement, for plots and reports (pitvol measure --export, the scan
+// report). Like transform_query.cpp it repeats measure()'s steps instead of
+// keeping the model in the session (the layout stays as it is for a query
+// tool): the transform and the rim of pv_session_transform(), then the
+// same surface::build() on the same stored points, which is deterministic,
+// so the grid is the one the volume was integrated over
+// (test_wall_grid_query checks the coverage it gives against the result's).
+//
+// It reads only the model's public grids: wall_val and wall[].state, bin
+// (t, z) at z * theta_bins + t (surface_model.h, Workspace).
+#include <cstring>
+#include <new>
+
+#include "session/session_impl.h"
+
+namespace pv::session {
+
+namespace {
+
+struct Levelled {
+  const pv_session *s;
+  const levelling::Transform *t;
+};
+
+// As measure_surface.cpp: the layer bins, then the floor store.
+void visit_bins(const binning::LayerBins &bins, const levelling::Transform &t,
+                surface::PointFn fn, void *fn_ctx) {
+  for (uint32_t b = 0; b < bins.layers(); ++b) {
+    const P3 *pts = bins.points(b);
+    for (uint32_t i = 0; i < bins.count(b); ++i) {
+      const Eigen::Vector3d v = t.apply(pts[i]);
+      fn(fn_ctx, surface::Point{v.x(), v.y(), v.z()});
+    }
+  }
+}
+
+void visit_points(void *ctx, surface::PointFn fn, void *fn_ctx) {
+  const auto *lv = static_cast<const Levelled *>(ctx);
+  visit_bins(lv->s->bins, *lv->t, fn, fn_ctx);
+  visit_bins(lv->s->floor_bins, *lv->t, fn, fn_ctx);
+}
+
+uint8_t public_state(const surface::WallBin &b, const surface::Params &p) {
+  switch (b.state) {
+    case surface::kSeen: return PV_WALL_SEEN;
+    case surface::kFloorBin: return PV_WALL_FLOOR;
+    case surface::kBridged: return b.gap <= p.short_gap_bins ? PV_WALL_SHORT_BRIDGE : PV_WALL_UNSEEN;
+    default: return PV_WALL_NONE;
+  }
+}
+
+pv_status_t query(pv_session *s, pv_wall_grid_t *grid, float *radius_mm, uint8_t *state,
+                  size_t capacity) {
+  if (s->cfg.method != PV_METHOD_SURFACE) return PV_ERR_WRONG_STATE;
+  pv_transform_t tf;
+  const pv_status_t st = pv_session_transform(s, &tf);
+  if (st != PV_OK) return st;
+  levelling::Transform t;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) t.R(r, c) = tf.rotation[3 * r + c];
+    t.t(r) = tf.translation_mm[r];
+  }
+  const surface::Params p;
+  Levelled lv{s, &t};
+  const surface::PointSource src{&lv, visit_points};
+  surface::Model m;
+  const double z_bottom = s->grid.z_of(0) - 0.5 * s->grid.layer_mm;  // as measure_surface()
+  const surface::Status bs = surface::build(src, z_bottom, tf.rim_mm, p, s->surf, &m);
+  if (bs == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;
+  if (bs != surface::Status::Ok) return PV_ERR_TOO_FEW_LAYERS;
+  grid->axis_x_mm = m.axis.cx0;
+  grid->axis_y_mm = m.axis.cy0;
+  grid->axis_dx = m.axis.cx1;
+  grid->axis_dy = m.axis.cy1;
+  grid->z0_mm = m.z0_mm;
+  grid->dz_mm = p.dz_mm;
+  grid->rim_mm = m.rim_mm;
+  grid->theta_bins = s->surf.cap.theta_bins;
+  grid->z_bins = m.z_bins;
+  const size_t n = size_t(grid->theta_bins) * grid->z_bins;
+  if (radius_mm == nullptr && state == nullptr) return PV_OK;
+  if (capacity < n) return PV_ERR_INVALID_ARGUMENT;
+  for (size_t i = 0; i < n; ++i) {
+    if (radius_mm != nullptr) radius_mm[i] = s->surf.wall_val[i];
+    if (state != nullptr) state[i] = public_state(s->surf.wall[i], p);
+  }
+  return PV_OK;
+}
+
+}  // namespace
+
+}  // namespace pv::session
+
+extern "C" pv_status_t pv_session_wall_grid(pv_session_t *s, pv_wall_grid_t *grid,
+                                            float *radius_mm, uint8_t *state, size_t capacity) {
+  if (s == nullptr || grid == nullptr) return PV_ERR_INVALID_ARGUMENT;
+  std::memset(grid, 0, sizeof *grid);
+#if defined(__cpp_exceptions)  // as pv_session_finish: nothing escapes the ABI
+  try {
+    return pv::session::query(s, grid, radius_mm, state, capacity);
+  } catch (const std::bad_alloc &) {
+    return PV_ERR_OUT_OF_MEMORY;
+  } catch (...) {
+    return PV_ERR_INTERNAL;
+  }
+#else
+  return pv::session::query(s, grid, radius_mm, state, capacity);
+#endif
+}
