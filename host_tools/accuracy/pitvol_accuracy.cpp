@@ -403,6 +403,66 @@ int main(int argc, char **argv) {
         std::printf("%s\n", st.short_row(peer ? m + " (peer)" : m).c_str());
       }
     }
+    // One table of all: a column per method and peer, "mean / max |error|
+    // (cases measured of cases run)" per family, then the time per scan.
+    std::printf("\n%s methods and peers side by side: mean / max |error| %% (measured / run)\n\n| family |",
+                markdown ? "####" : "summary:");
+    for (const std::string &m : all_methods) std::printf(" %s |", m.c_str());
+    std::printf("\n|---|");
+    for (size_t i = 0; i < all_methods.size(); ++i) std::printf("---|");
+    std::printf("\n");
+    auto cell = [&](const std::string &m, const std::string &f) {
+      Stats st;
+      for (const Case &c : cases) {
+        const Outcome &o = results[m][c.name];
+        if (o.status.rfind("not computed", 0) == 0) continue;
+        if (f == "all" || c.family == f) st.add(o);
+      }
+      return st;
+    };
+    for (const std::string &f : order) {
+      std::printf("| %s |", f == "all" ? "**all**" : f.c_str());
+      for (const std::string &m : all_methods) {
+        const Stats st = cell(m, f);
+        const int ok = st.n - st.failed;
+        if (st.n == 0) std::printf(" - |");
+        else if (ok == 0) std::printf(" - (0/%d) |", st.n);
+        else std::printf(" %.3f / %.3f (%d/%d) |", 100 * st.sum_abs / ok, 100 * st.max_abs, ok, st.n);
+      }
+      std::printf("\n");
+    }
+    // The same scans for every column: those no slow peer left out.
+    {
+      std::vector<std::string> common;
+      for (const Case &c : cases) {
+        bool all_ran = true;
+        for (const std::string &m : all_methods) all_ran &= results[m][c.name].status.rfind("not computed", 0) != 0;
+        if (all_ran) common.push_back(c.name);
+      }
+      if (common.size() < cases.size()) {
+        std::printf("| **all, the %zu scans every column ran** |", common.size());
+        for (const std::string &m : all_methods) {
+          Stats st;
+          for (const std::string &n : common) st.add(results[m][n]);
+          const int ok = st.n - st.failed;
+          if (ok == 0) std::printf(" - (0/%d) |", st.n);
+          else std::printf(" %.3f / %.3f (%d/%d) |", 100 * st.sum_abs / ok, 100 * st.max_abs, ok, st.n);
+        }
+        std::printf("\n");
+      }
+    }
+    std::printf("| ms per scan, median |");
+    for (const std::string &m : all_methods) {
+      std::vector<double> t;
+      for (const Case &c : cases) {
+        const Outcome &o = results[m][c.name];
+        if (o.status.rfind("not computed", 0) != 0 && std::isfinite(o.total_ms)) t.push_back(o.total_ms);
+      }
+      std::sort(t.begin(), t.end());
+      if (t.empty()) std::printf(" - |");
+      else std::printf(" %.0f |", t.size() % 2 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]));
+    }
+    std::printf("\n");
     // Why peers did not measure, once per reason.
     std::map<std::string, int> reasons;
     for (const std::string &p : peers) {
