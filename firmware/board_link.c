@@ -478,9 +478,9 @@ void pv_board_link_stop(pv_board_link_t *bl) {
     pv_link_tx_flush(&bl->link, write_port, bl);
     const pv_link_stats_t *s = &bl->link.stats;
     printf("pitvol-board: link: %u frames sent, %u received, %u corrupt, %u missed, %u repeated "
-           "commands, %u status dropped, %u outbox dropped\n",
+           "commands, %u status dropped, %u outbox dropped, %u host restarts\n",
            s->frames_sent, s->frames_received, s->frames_corrupt, s->frames_missed,
-           s->commands_duplicate, s->lossy_dropped, bl->out_dropped);
+           s->commands_duplicate, s->lossy_dropped, bl->out_dropped, s->peer_restarts);
     pv_serial_close(&bl->port);
   }
   bl->app->observer = NULL;
