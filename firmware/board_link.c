@@ -332,6 +332,9 @@ static void on_timer(pv_board_app_t *app, int fd, short revents, void *user) {
   service(bl);
 }
 
+/* 2024-01-01T00:00:00Z: any earlier clock reading is an unset clock. */
+#define PV_BOARD_PLAUSIBLE_UNIX_S ((time_t)1704067200)
+
 /* The result: into the log (durable), then out; its id is the record number. */
 static void on_result(pv_board_link_t *bl) {
   pv_board_model_t *md = &bl->app->model;
@@ -339,7 +342,10 @@ static void on_result(pv_board_link_t *bl) {
   m.which_body = pitvol_Message_result_tag;
   pitvol_Result *r = &m.body.result;
   const pv_result_t *res = &md->result;
-  r->time_unix_s = (uint64_t)time(NULL);
+  /* A board without a battery-backed clock or network time starts in 1970:
+   * such a time is no date, sent as 0 ("clock not set", docs/protocol). */
+  const time_t now = time(NULL);
+  r->time_unix_s = now >= PV_BOARD_PLAUSIBLE_UNIX_S ? (uint64_t)now : 0u;
   r->status = (int32_t)md->result_status;
   snprintf(r->method, sizeof r->method, "%s", pv_method_name(bl->app->cfg.core.method));
   if (md->result_status == PV_OK) {
