@@ -332,6 +332,9 @@ static void on_timer(pv_board_app_t *app, int fd, short revents, void *user) {
   service(bl);
 }
 
+/* 2024-01-01T00:00:00Z: any earlier clock reading is an unset clock. */
+#define PV_BOARD_PLAUSIBLE_UNIX_S ((time_t)1704067200)
+
 /* The result: into the log (durable), then out; its id is the record number. */
 static void on_result(pv_board_link_t *bl) {
   pv_board_model_t *md = &bl->app->model;
@@ -339,7 +342,10 @@ static void on_result(pv_board_link_t *bl) {
   m.which_body = pitvol_Message_result_tag;
   pitvol_Result *r = &m.body.result;
   const pv_result_t *res = &md->result;
-  r->time_unix_s = (uint64_t)time(NULL);
+  /* A board without a battery-backed clock or network time starts in 1970:
+   * such a time is no date, sent as 0 ("clock not set", docs/protocol). */
+  const time_t now = time(NULL);
+  r->time_unix_s = now >= PV_BOARD_PLAUSIBLE_UNIX_S ? (uint64_t)now : 0u;
   r->status = (int32_t)md->result_status;
   snprintf(r->method, sizeof r->method, "%s", pv_method_name(bl->app->cfg.core.method));
   if (md->result_status == PV_OK) {
@@ -478,9 +484,9 @@ void pv_board_link_stop(pv_board_link_t *bl) {
     pv_link_tx_flush(&bl->link, write_port, bl);
     const pv_link_stats_t *s = &bl->link.stats;
     printf("pitvol-board: link: %u frames sent, %u received, %u corrupt, %u missed, %u repeated "
-           "commands, %u status dropped, %u outbox dropped\n",
+           "commands, %u status dropped, %u outbox dropped, %u host restarts\n",
            s->frames_sent, s->frames_received, s->frames_corrupt, s->frames_missed,
-           s->commands_duplicate, s->lossy_dropped, bl->out_dropped);
+           s->commands_duplicate, s->lossy_dropped, bl->out_dropped, s->peer_restarts);
     pv_serial_close(&bl->port);
   }
   bl->app->observer = NULL;

@@ -263,8 +263,13 @@ static int decode_frame(pv_link_t *link, pv_link_rx_t *out) {
   st->frames_received++;
   if (link->rx_have_seq) {
     const uint32_t ahead = out->seq - link->rx_last_seq; /* mod 2^32 */
-    if (ahead != 0 && ahead < 0x80000000u) {
+    if (ahead != 0 && ahead <= PV_LINK_MAX_SEQ_GAP) {
       st->frames_missed += ahead - 1;
+      link->rx_last_seq = out->seq;
+    } else if (ahead > PV_LINK_MAX_SEQ_GAP && ahead < 0x80000000u) {
+      /* No line loses a million frames: a host that restarted with a new
+       * random first seq. Follow it; nothing was missed. */
+      st->peer_restarts++;
       link->rx_last_seq = out->seq;
     }
   } else {

@@ -34,7 +34,10 @@ std::string g17(double v) {
   return b;
 }
 
+// 0: the board's clock was not set (no RTC, no network time): say so
+// rather than print 1970.
 std::string utc(uint64_t t) {
+  if (t == 0) return "clock-not-set";
   const std::time_t tt = std::time_t(t);
   std::tm tm{};
   gmtime_r(&tt, &tm);

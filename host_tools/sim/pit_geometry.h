@@ -99,6 +99,11 @@ double stone_volume_mm3(double height_mm, double radius_mm);
 
 double signed_volume_mm3(const Mesh &m);
 
+// The part of signed_volume_mm3(m) below the plane z = h_mm (the closed
+// mesh clipped at the plane): the true void between the floor and a height,
+// for comparing a measurement slab by slab (pitvol-sim slabs).
+double volume_below_mm3(const Mesh &m, double h_mm);
+
 }  // namespace pv::sim
 
 #endif

@@ -9,11 +9,19 @@
 //   pitvol-sim corpus [--set standard|holdout|stress] --out DIR
 //       writes a corpus (default: the standard set): DIR/<case>.ply,
 //       .frames, and DIR/manifest.csv + DIR/manifest.json (both name the set)
+//   pitvol-sim slabs --family NAME [--no-ground] [--seed S] --layers FILE [--step MM]
+//       the true void per height slab of that pit beside the measured one
+//       (FILE: `pitvol measure SCAN --layers FILE`): where a measurement
+//       loses or gains volume (docs/accuracy.md). Level ground only: the
+//       pit's frame is then the levelled frame up to a turn about the axis.
 //   pitvol-sim families
 #include <sys/stat.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <cstdlib>
 #include <exception>
 #include <string>
@@ -31,6 +39,7 @@ const char kUsage[] =
     "                       [--noise MM] [--tilt MAX_DEG] [--arc DEG] [--dropouts N]\n"
     "                       [--ground-tilt DEG] [--depth MM] --out PREFIX\n"
     "       pitvol-sim corpus [--set standard|holdout|stress] --out DIR\n"
+    "       pitvol-sim slabs --family NAME [--no-ground] [--seed S] --layers FILE [--step MM]\n"
     "       pitvol-sim families\n"
     "       pitvol-sim --help\n";
 
@@ -117,6 +126,52 @@ bool parse_num(const char *s, double *out) {
 
 }  // namespace
 
+// Layers of `pitvol measure --layers`: centre height and section, 0.5 mm
+// steps (bottom first).
+bool read_layers(const std::string &path, std::vector<double> *z, std::vector<double> *area) {
+  std::ifstream in(path);
+  std::string line;
+  if (!in || !std::getline(in, line) || line.rfind("z_mm,area_mm2", 0) != 0) return false;
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string a, b;
+    if (!std::getline(ss, a, ',') || !std::getline(ss, b, ',')) return false;
+    z->push_back(std::atof(a.c_str()));
+    area->push_back(std::atof(b.c_str()));
+  }
+  return z->size() >= 2;
+}
+
+int slabs(const CorpusCase &c, const std::string &layers_path, double step_mm) {
+  std::vector<double> z, area;
+  if (!read_layers(layers_path, &z, &area)) {
+    std::fprintf(stderr, "pitvol-sim: %s is not a layers CSV of pitvol measure --layers\n",
+                 layers_path.c_str());
+    return 3;
+  }
+  const double h = z[1] - z[0];
+  const auto per = size_t(std::max(1.0, std::round(step_mm / h)));
+  const Pit pit = make_pit(c.family, c.ground, c.seed);
+  std::printf("from_mm,to_mm,true_cm3,measured_cm3,diff_cm3,diff_radius_mm\n");
+  double true_all = 0, meas_all = 0;
+  for (size_t i = 0; i < z.size(); i += per) {
+    const size_t j = std::min(z.size(), i + per);
+    const double a = z[i] - 0.5 * h, b = z[j - 1] + 0.5 * h;
+    double meas = 0;
+    for (size_t k = i; k < j; ++k) meas += area[k] * h;
+    const double truth = volume_below_mm3(pit.void_closed, b) - volume_below_mm3(pit.void_closed, a);
+    // The difference as a shift of the wall: over the slab's side, the
+    // circumference of the circle of the same section.
+    const double side = 2.0 * std::sqrt(M_PI * std::max(truth, 0.0) / (b - a)) * (b - a);
+    std::printf("%.2f,%.2f,%.3f,%.3f,%+.3f,%+.3f\n", a, b, truth / 1000, meas / 1000,
+                (meas - truth) / 1000, side > 0 ? (meas - truth) / side : 0.0);
+    true_all += truth;
+    meas_all += meas;
+  }
+  std::printf("all,,%.3f,%.3f,%+.3f,\n", true_all / 1000, meas_all / 1000, (meas_all - true_all) / 1000);
+  return 0;
+}
+
 int run(int argc, char **argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
@@ -137,13 +192,19 @@ int run(int argc, char **argv) {
   one.set = "single";
   one.stress = "none";
   bool have_family = false;
-  std::string out, set = "standard";
+  std::string out, set = "standard", layers;
+  double step_mm = 10.0;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     const bool more = i + 1 < argc;
     double v = 0;
     if (a == "--out" && more) {
       out = argv[++i];
+    } else if (a == "--layers" && more) {
+      layers = argv[++i];
+    } else if (a == "--step" && more && parse_num(argv[i + 1], &v) && v >= 0.5 && v <= 1000) {
+      step_mm = v;
+      ++i;
     } else if (a == "--set" && more) {
       set = argv[++i];
     } else if (a == "--family" && more) {
@@ -179,6 +240,10 @@ int run(int argc, char **argv) {
     } else {
       return usage(("unknown or incomplete option '" + a + "'").c_str());
     }
+  }
+  if (cmd == "slabs") {
+    if (!have_family || layers.empty()) return usage("slabs needs --family and --layers");
+    return slabs(one, layers, step_mm);
   }
   if (out.empty()) return usage("--out is required");
   std::string json, row;

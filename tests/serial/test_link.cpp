@@ -244,6 +244,25 @@ void a_flipped_bit_costs_one_frame_and_the_reader_resyncs(void **) {
   assert_int_equal(rx.stats.frames_missed, 1);
 }
 
+// A host that restarts begins at a new random seq: that jump is a new peer,
+// not four billion lost frames; a gap of a few frames is still counted.
+void a_restarted_host_is_a_new_peer_not_lost_frames(void **) {
+  static pv_link_t tx, rx;
+  pv_link_init(&rx, 0);
+  Bytes wire;
+  const uint32_t firsts[] = {1000, 1004, 1004 + 3000000, 1004 + 3000000 + PV_LINK_MAX_SEQ_GAP + 1};
+  for (uint32_t first : firsts) {
+    pv_link_init(&tx, first);  // one frame from each "host"
+    const pitvol_Message m = status(first);
+    pv_link_send(&tx, &m, PV_LINK_RELIABLE, nullptr);
+    pv_link_tx_flush(&tx, write_all, &wire);
+  }
+  const auto got = feed_all(&rx, wire, 7);
+  assert_int_equal(got.size(), 4);
+  assert_int_equal(rx.stats.frames_missed, 3);   // 1000 -> 1004
+  assert_int_equal(rx.stats.peer_restarts, 2);   // the two large jumps
+}
+
 // 1 % of bytes flipped, dropped or preceded by an inserted byte. Truth
 // without the decoder: split the noisy stream at zeros; a piece equal to a
 // sent frame's COBS body is a good frame, any other piece a corrupt one.
@@ -502,6 +521,7 @@ int main() {
       cmocka_unit_test(every_message_survives_a_round_trip_in_any_chunking),
       cmocka_unit_test(a_flipped_bit_costs_one_frame_and_the_reader_resyncs),
       cmocka_unit_test(line_noise_every_corrupt_frame_is_counted),
+      cmocka_unit_test(a_restarted_host_is_a_new_peer_not_lost_frames),
       cmocka_unit_test(status_is_replaced_and_dropped_results_never),
       cmocka_unit_test(a_slow_host_loses_statuses_but_no_result),
       cmocka_unit_test(a_repeated_command_is_answered_again_not_handed_on),

@@ -328,6 +328,26 @@ void test_tapered_frustum(void **) {
   }
 }
 
+// The volume below a plane: the frustum of a tapered pit cut at height z
+// (polygon sections grow quadratically), zero under the floor, the whole
+// volume above the rim.
+void test_volume_below(void **) {
+  const Pit p = make_pit(Family::Tapered, false, 3);
+  const double a = jnum(p.params_json, "r_bottom_mm"), b = jnum(p.params_json, "r_top_mm");
+  const double h = p.rim_z_mm, N = jnum(p.params_json, "angles");
+  const double k = 0.5 * N * std::sin(2 * kPi / N);
+  for (double z : {1.0, 37.5, 100.25, 0.5 * h, h - 2.0}) {
+    const double r = a + (b - a) * z / h;
+    const double A1 = k * a * a, A2 = k * r * r;
+    const double exact = z / 3 * (A1 + A2 + std::sqrt(A1 * A2));
+    const double v = pv::sim::volume_below_mm3(p.void_closed, z);
+    print_message("tapered below %.2f: %.6f frustum %.6f rel %.2e\n", z, v, exact, rel(v, exact));
+    assert_true(rel(v, exact) < 1e-8);
+  }
+  assert_true(std::fabs(pv::sim::volume_below_mm3(p.void_closed, -1.0)) < 1e-9);
+  assert_true(rel(pv::sim::volume_below_mm3(p.void_closed, h + 1.0), p.volume_mm3) < 1e-12);
+}
+
 void test_elliptical(void **) {
   for (uint64_t seed : {6ull, 7ull, 8ull}) {
     const Pit p = make_pit(Family::Elliptical, false, seed);
@@ -722,6 +742,7 @@ int main(void) {
       cmocka_unit_test(test_cylinder_exact_polygon),
       cmocka_unit_test(test_tapered_frustum),
       cmocka_unit_test(test_elliptical),
+      cmocka_unit_test(test_volume_below),
       cmocka_unit_test(test_all_families),
       cmocka_unit_test(test_family_ranges),
       cmocka_unit_test(test_deterministic),

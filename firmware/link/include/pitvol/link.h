@@ -50,6 +50,9 @@ extern "C" {
 /* Largest frame on the wire, both delimiters included (Hello.max_frame_bytes). */
 #define PV_LINK_MAX_WIRE_BYTES (PV_LINK_MAX_COBS_BYTES + 2u)
 #define PV_LINK_TX_SLOTS 8u
+/* A larger forward jump of the peer's seq is a new peer (a host restarts at
+ * a random seq), counted in peer_restarts, not as missed frames. */
+#define PV_LINK_MAX_SEQ_GAP 65536u
 
 typedef enum pv_link_status {
   PV_LINK_OK = 0,
@@ -80,6 +83,7 @@ typedef struct pv_link_stats {
   uint32_t corrupt_version;    /* frame version this side does not speak */
   uint32_t corrupt_payload;    /* CRC good but the payload is not a pitvol.Message */
   uint32_t frames_missed;      /* gaps in the peer's sequence numbers */
+  uint32_t peer_restarts;      /* seq jumps beyond PV_LINK_MAX_SEQ_GAP: a new peer */
   uint32_t lossy_dropped;      /* lossy messages replaced or dropped before sending */
   uint32_t commands_duplicate; /* a repeated command: answered again, not handed on */
 } pv_link_stats_t;
