@@ -148,7 +148,7 @@ bool load_config_file(const std::string &path, pv_config_t *cfg, std::string *er
     const std::string val = trim(line.substr(eq + 1));
     if (key == "method") {
       if (pv_method_from_name(val.c_str(), &cfg->method) != PV_OK) {
-        return fail("unknown method '" + val + "' (known: paper, polar)");
+        return fail("unknown method '" + val + "' (known: surface, paper, polar)");
       }
       continue;
     }

@@ -21,7 +21,7 @@ const char kUsage[] =
     "  --json              one JSON object on stdout\n"
     "  --units mm|cm|m     units of the file's coordinates (default mm)\n"
     "  --config FILE       'key = value' settings (docs/method.md)\n"
-    "  --method NAME       paper (default) or polar (docs/method.md)\n"
+    "  --method NAME       surface (default), paper or polar (docs/method.md)\n"
     "  --format NAME       ply, pcd, xyz, asc, csv (default: by extension)\n"
     "  --no-progress       no progress line on stderr\n"
     "  --layers FILE       write area against height per layer (CSV)\n"
@@ -107,7 +107,7 @@ int main(int argc, char **argv) {
     if (!load_config_file(config_path, &opt.cfg, &err)) return usage_error(err);
   }
   if (!method.empty() && pv_method_from_name(method.c_str(), &opt.cfg.method) != PV_OK) {
-    return usage_error("unknown --method '" + method + "' (known: paper, polar)");
+    return usage_error("unknown --method '" + method + "' (known: surface, paper, polar)");
   }
   return run_measure(opt);
 }
