@@ -37,15 +37,25 @@ struct Levelled {
   const levelling::Transform *t;
 };
 
+// Points go to the pass in batches of kVisitBatch (on the stack: 6 KiB).
+constexpr uint32_t kVisitBatch = 256;
+
 void visit_bins(const binning::LayerBins &bins, const levelling::Transform &t,
                 surface::PointFn fn, void *fn_ctx) {
+  surface::Point buf[kVisitBatch];
+  uint32_t n = 0;
   for (uint32_t b = 0; b < bins.layers(); ++b) {
     const P3 *pts = bins.points(b);
     for (uint32_t i = 0; i < bins.count(b); ++i) {
       const Eigen::Vector3d v = t.apply(pts[i]);
-      fn(fn_ctx, surface::Point{v.x(), v.y(), v.z()});
+      buf[n++] = surface::Point{v.x(), v.y(), v.z()};
+      if (n == kVisitBatch) {
+        fn(fn_ctx, buf, n);
+        n = 0;
+      }
     }
   }
+  if (n > 0) fn(fn_ctx, buf, n);
 }
 
 // Every stored point: the layer bins, then the floor store.
@@ -95,6 +105,11 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   const surface::PointSource src{&lv, visit_points};
   surface::Model m;
   const double z_bottom = s->grid.z_of(0) - 0.5 * s->grid.layer_mm;
+  // The paper's finish-time order (a slot id per stored point) is not used
+  // by this method: its bytes keep each point's theta bin between the
+  // model's passes (surface::Workspace::point_theta).
+  s->surf.point_theta = reinterpret_cast<uint8_t *>(s->order);
+  s->surf.point_theta_cap = size_t(s->grid.layers) * s->cfg.points_per_layer * sizeof(uint32_t);
   const surface::Status st = surface::build(src, z_bottom, rim_mm, p, s->surf, &m);
   if (st == surface::Status::TooFewPoints) {
     out->status = PV_ERR_TOO_FEW_POINTS;

@@ -32,6 +32,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "surface/angle_bins.h"
+
 namespace pv::surface {
 
 struct Params {
@@ -71,8 +73,10 @@ struct Point {            // levelled, millimetres (bottom plane at z = 0)
 };
 
 // The source of levelled points, read once per pass: visit(ctx, fn, fn_ctx)
-// calls fn(fn_ctx, p) for every stored point, always in the same order.
-using PointFn = void (*)(void *fn_ctx, const Point &p);
+// calls fn(fn_ctx, pts, n) with every stored point, in batches (a pass's
+// loop over a batch inlines its per-point work: one indirect call per
+// batch, not per point), always in the same order.
+using PointFn = void (*)(void *fn_ctx, const Point *pts, size_t n);
 struct PointSource {
   void *ctx;
   void (*visit)(void *ctx, PointFn fn, void *fn_ctx);
@@ -116,6 +120,14 @@ struct Workspace {
   uint32_t *fill_idx;     // theta_bins * z_bins (bridging rounds)
   float *fill_val;        // max(theta_bins * z_bins * 3, cells * cells)
   uint32_t *queue;        // cells * cells (floor flood)
+  // Optional, the caller's: one byte per point of the PointSource, where
+  // build() keeps each point's theta bin for its later passes and for
+  // occupancy() (which must then visit the same points in the same order).
+  // Points past point_theta_cap, or no cache (null), are binned again.
+  AngleBins *theta;        // theta_bins around the axis (set up by build)
+  AngleBins *sectors;      // kAxisSectors around the centroid, for the axis
+  uint8_t *point_theta = nullptr;
+  size_t point_theta_cap = 0;
 };
 
 constexpr uint32_t kAxisSectors = 36;
