@@ -32,21 +32,28 @@ constexpr double kBaseRelInterval = 0.0010;
 // Uncertainty of the rim height, mm, times the rim section.
 constexpr double kRimSigmaMm = 0.3;
 
+// pv_session_estimate() builds the model from every kEstimateStride-th
+// stored point of each bin, so the live figure costs a fraction of
+// finish()'s passes; finish() reads every point. (By place in the bin, not
+// by hash: a hash per point and a random branch cost as much as the pass.)
+constexpr uint32_t kEstimateStride = 4;
+
 struct Levelled {
   const pv_session *s;
   const levelling::Transform *t;
+  uint32_t stride;  // every stride-th point of a bin
 };
 
 // Points go to the pass in batches of kVisitBatch (on the stack: 6 KiB).
 constexpr uint32_t kVisitBatch = 256;
 
-void visit_bins(const binning::LayerBins &bins, const levelling::Transform &t,
+void visit_bins(const binning::LayerBins &bins, const levelling::Transform &t, uint32_t stride,
                 surface::PointFn fn, void *fn_ctx) {
   surface::Point buf[kVisitBatch];
   uint32_t n = 0;
   for (uint32_t b = 0; b < bins.layers(); ++b) {
     const P3 *pts = bins.points(b);
-    for (uint32_t i = 0; i < bins.count(b); ++i) {
+    for (uint32_t i = 0; i < bins.count(b); i += stride) {
       const Eigen::Vector3d v = t.apply(pts[i]);
       buf[n++] = surface::Point{v.x(), v.y(), v.z()};
       if (n == kVisitBatch) {
@@ -61,8 +68,8 @@ void visit_bins(const binning::LayerBins &bins, const levelling::Transform &t,
 // Every stored point: the layer bins, then the floor store.
 void visit_points(void *ctx, surface::PointFn fn, void *fn_ctx) {
   const auto *lv = static_cast<const Levelled *>(ctx);
-  visit_bins(lv->s->bins, *lv->t, fn, fn_ctx);
-  visit_bins(lv->s->floor_bins, *lv->t, fn, fn_ctx);
+  visit_bins(lv->s->bins, *lv->t, lv->stride, fn, fn_ctx);
+  visit_bins(lv->s->floor_bins, *lv->t, lv->stride, fn, fn_ctx);
 }
 
 // The widest run of height bands seen on less than half their wall.
@@ -101,7 +108,7 @@ bool plausible_pit(const surface::Occupancy &occ, double rim_area_mm2, double ma
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
                             pv_result_t *out) {
   const surface::Params p;
-  Levelled lv{s, &t};
+  Levelled lv{s, &t, s->estimating ? kEstimateStride : 1u};
   const surface::PointSource src{&lv, visit_points};
   surface::Model m;
   const double z_bottom = s->grid.z_of(0) - 0.5 * s->grid.layer_mm;

@@ -381,7 +381,9 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
         const int zz = int(z) + dz;
         if (zz < 0 || zz >= int(g.Z)) continue;
         for (int dt = -3; dt <= 3; ++dt) {
-          const uint32_t tt = uint32_t((int(t) + dt + int(g.T)) % int(g.T));
+          int wrapped = int(t) + dt;  // around the circle, without a division
+          wrapped += wrapped < 0 ? int(g.T) : (wrapped >= int(g.T) ? -int(g.T) : 0);
+          const auto tt = uint32_t(wrapped);
           const WallBin &o = ws.wall[size_t(zz) * g.T + tt];
           if ((dz || dt) && o.state == kSeen) {
             nb[k++] = ws.wall_val[size_t(zz) * g.T + tt];
@@ -459,8 +461,8 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
         double sum = 0;
         float lo = 1e30f, hi = -1e30f;
         int cnt = 0;
-        const size_t nbr[4] = {size_t(z) * g.T + (t + 1) % g.T,
-                               size_t(z) * g.T + (t + g.T - 1) % g.T,
+        const size_t nbr[4] = {size_t(z) * g.T + (t + 1 == g.T ? 0 : t + 1),
+                               size_t(z) * g.T + (t == 0 ? g.T - 1 : t - 1),
                                z > 0 ? i - g.T : bins, z + 1 < g.Z ? i + g.T : bins};
         for (size_t j : nbr) {
           if (j >= bins) continue;
@@ -721,7 +723,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   const Geo g = geo_of(ws, *m, p);
   const size_t bins = size_t(g.T) * g.Z;
   for (size_t i = 0; i < bins; ++i) {
-    ws.wall[i] = WallBin{kNone, kNone, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, float(p.band_mm), kEmpty, 0};
+    ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0, 0, 0, 0, 0, 0, 0, 0};
   }
   const size_t cells = size_t(g.C) * g.C;
   for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty};
@@ -804,8 +806,10 @@ void prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
 // step's midpoint (a flat floor halfway through a step was a half-step
 // error: -0.1 % on a 300 mm deep cylinder).
 double wedge_volume(const Workspace &ws, const Params &p, uint32_t t, double R, double z_a,
-                    double z_b, double dth) {
+                    double z_b, double dth, float ray_low) {
   if (!(R > 0)) return 0.0;
+  // Below the lowest floor of the whole ray every ring adds nothing.
+  if (z_b <= double(ray_low)) return 0.0;
   const uint32_t K = ws.cap.ray_steps;
   const double dr = p.integrate_dr_mm;
   auto nk = uint32_t(std::ceil(R / dr));
@@ -839,6 +843,12 @@ Volume integrate(const Workspace &ws, const Model &m, const Params &p, Profile *
   // separate sweeps, bit for bit).
   double out[3] = {0, 0, 0};
   double unseen = 0, last_area = 0;
+  float ray_low[AngleBins::kMaxBins];  // lowest floor along each ray
+  const uint32_t K = ws.cap.ray_steps;
+  for (uint32_t t = 0; t < g.T; ++t) {
+    const float *fl = ws.ray_floor + size_t(t) * K;
+    ray_low[t] = K > 0 ? *std::min_element(fl, fl + K) : 0.0f;
+  }
   for (double z = m.z0_mm; z < m.rim_mm; z += p.integrate_dz_mm) {
     const double h = std::min(p.integrate_dz_mm, m.rim_mm - z);
     const double zm = z + 0.5 * h;
@@ -849,10 +859,10 @@ Volume integrate(const Workspace &ws, const Model &m, const Params &p, Profile *
       const double r0 = radius_at(ws.wall_val, g, t, zm);
       const double r1 = radius_at(ws.wall_lo, g, t, zm);
       const double r2 = radius_at(ws.wall_hi, g, t, zm);
-      const double dv = wedge_volume(ws, p, t, r0, z, z + h, dth);
+      const double dv = wedge_volume(ws, p, t, r0, z, z + h, dth, ray_low[t]);
       step[0] += dv;
-      step[1] += r1 == r0 ? dv : wedge_volume(ws, p, t, r1, z, z + h, dth);
-      step[2] += r2 == r0 ? dv : wedge_volume(ws, p, t, r2, z, z + h, dth);
+      step[1] += r1 == r0 ? dv : wedge_volume(ws, p, t, r1, z, z + h, dth, ray_low[t]);
+      step[2] += r2 == r0 ? dv : wedge_volume(ws, p, t, r2, z, z + h, dth, ray_low[t]);
       const bool k = known(ws.wall[size_t(zb) * g.T + t], p);
       known_bins += k;
       if (!k) unseen += dv;

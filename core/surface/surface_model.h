@@ -82,16 +82,17 @@ struct PointSource {
   void (*visit)(void *ctx, PointFn fn, void *fn_ctx);
 };
 
+// What every point reads (top1, band) shares the first cache line.
 struct WallBin {
   float top1, top2;       // two largest radii
+  float band;             // surface band of this bin (wider on a slope)
   uint32_t n_all;         // points in the bin
   uint32_t n;             // surface points (within band of top2)
   uint32_t n_floor;       // of those, on the floor map's floor
-  double sr, sz, szz, srz;  // sums over the surface points (z from the bin centre)
-  double sa, saa, sra, sza;  // the same for the angle from the bin centre, rad
-  float band;             // surface band of this bin (wider on a slope)
   uint8_t state;          // see BinState
   uint8_t gap;            // bridged: length of the bridge, bins (255: long)
+  double sr, sz, szz, srz;  // sums over the surface points (z from the bin centre)
+  double sa, saa, sra, sza;  // the same for the angle from the bin centre, rad
 };
 
 enum BinState : uint8_t {
