@@ -451,34 +451,54 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
       below = int(z);
     }
   }
+  // Round by round from the filled neighbours. After the first round a bin
+  // can only gain a filled neighbour from the round before, so later rounds
+  // look at the neighbours of the last round's fills alone (kept in the ray
+  // scratch, unused until integrate(); a full scan where it is too small):
+  // the same fills as scanning every bin each round.
+  auto *cand = reinterpret_cast<uint32_t *>(ws.ray_floor);
+  const size_t cand_cap = size_t(ws.cap.theta_bins) * ws.cap.ray_steps;
+  static_assert(sizeof(uint32_t) == sizeof(float), "candidates in the ray scratch");
+  constexpr uint8_t kQueuedGap = 254;  // an unfilled bin's gap while queued
+  size_t queued = 0;
+  bool full_scan = true;
   for (uint32_t round = 1;; ++round) {
     size_t k = 0;
-    for (uint32_t z = 0; z < g.Z; ++z) {
-      for (uint32_t t = 0; t < g.T; ++t) {
-        const size_t i = size_t(z) * g.T + t;
-        const uint8_t st = ws.wall[i].state;
-        if (st == kSeen || st == kBridged) continue;
-        double sum = 0;
-        float lo = 1e30f, hi = -1e30f;
-        int cnt = 0;
-        const size_t nbr[4] = {size_t(z) * g.T + (t + 1 == g.T ? 0 : t + 1),
-                               size_t(z) * g.T + (t == 0 ? g.T - 1 : t - 1),
-                               z > 0 ? i - g.T : bins, z + 1 < g.Z ? i + g.T : bins};
-        for (size_t j : nbr) {
-          if (j >= bins) continue;
-          const uint8_t s = ws.wall[j].state;
-          if (s != kSeen && s != kBridged) continue;
-          sum += ws.wall_val[j];
-          lo = std::min(lo, ws.wall_lo[j]);
-          hi = std::max(hi, ws.wall_hi[j]);
-          ++cnt;
-        }
-        if (cnt == 0) continue;
-        ws.fill_idx[k] = uint32_t(i);
-        ws.fill_val[3 * k] = float(sum / cnt);
-        ws.fill_val[3 * k + 1] = lo;
-        ws.fill_val[3 * k + 2] = hi;
-        ++k;
+    auto consider = [&](uint32_t z, uint32_t t) {
+      const size_t i = size_t(z) * g.T + t;
+      const uint8_t st = ws.wall[i].state;
+      if (st == kSeen || st == kBridged) return;
+      double sum = 0;
+      float lo = 1e30f, hi = -1e30f;
+      int cnt = 0;
+      const size_t nbr[4] = {size_t(z) * g.T + (t + 1 == g.T ? 0 : t + 1),
+                             size_t(z) * g.T + (t == 0 ? g.T - 1 : t - 1),
+                             z > 0 ? i - g.T : bins, z + 1 < g.Z ? i + g.T : bins};
+      for (size_t j : nbr) {
+        if (j >= bins) continue;
+        const uint8_t s = ws.wall[j].state;
+        if (s != kSeen && s != kBridged) continue;
+        sum += ws.wall_val[j];
+        lo = std::min(lo, ws.wall_lo[j]);
+        hi = std::max(hi, ws.wall_hi[j]);
+        ++cnt;
+      }
+      if (cnt == 0) return;
+      ws.fill_idx[k] = uint32_t(i);
+      ws.fill_val[3 * k] = float(sum / cnt);
+      ws.fill_val[3 * k + 1] = lo;
+      ws.fill_val[3 * k + 2] = hi;
+      ++k;
+    };
+    if (full_scan) {
+      for (uint32_t z = 0; z < g.Z; ++z) {
+        for (uint32_t t = 0; t < g.T; ++t) consider(z, t);
+      }
+    } else {
+      for (size_t q = 0; q < queued; ++q) {
+        const uint32_t i = cand[q];
+        ws.wall[i].gap = 0;
+        consider(i / g.T, i % g.T);
       }
     }
     if (k == 0) break;
@@ -491,7 +511,32 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
       ws.wall[i].gap = uint8_t(std::min<uint32_t>(255, 2 * round));
       ++m->bridged_bins;
     }
+    // Next round's candidates: the unfilled neighbours of this round's fills.
+    queued = 0;
+    full_scan = false;
+    for (size_t q = 0; q < k && !full_scan; ++q) {
+      const uint32_t i = ws.fill_idx[q], z = i / g.T, t = i % g.T;
+      const size_t nbr[4] = {size_t(z) * g.T + (t + 1 == g.T ? 0 : t + 1),
+                             size_t(z) * g.T + (t == 0 ? g.T - 1 : t - 1),
+                             z > 0 ? i - g.T : bins, z + 1 < g.Z ? i + g.T : bins};
+      for (size_t j : nbr) {
+        if (j >= bins) continue;
+        WallBin &o = ws.wall[j];
+        if (o.state == kSeen || o.state == kBridged || o.gap == kQueuedGap) continue;
+        if (queued == cand_cap) {
+          full_scan = true;
+          break;
+        }
+        o.gap = kQueuedGap;
+        cand[queued++] = uint32_t(j);
+      }
+    }
+    if (full_scan) {
+      for (size_t q = 0; q < queued; ++q) ws.wall[cand[q]].gap = 0;
+      queued = 0;
+    }
   }
+  for (size_t q = 0; q < queued; ++q) ws.wall[cand[q]].gap = 0;
   for (size_t i = 0; i < bins; ++i) {
     if (!floor_bin[i]) continue;
     ws.wall[i].state = kFloorBin;
