@@ -243,6 +243,7 @@ struct GridCtx {
   double wall_top;  // ground points near the rim stay out of the wall grid
   bool second;      // pass 2: accumulate the surface points
   ThetaCache cache;
+  double floor_top = HUGE_VAL;  // pass 3: no floor cell reaches above this
 };
 
 // Pass 3: a wall bin's surface points that lie on the floor map's floor
@@ -252,7 +253,7 @@ void floor_share_pass(void *c, const Point &q) {
   auto *x = static_cast<GridCtx *>(c);
   const Geo &g = x->g;
   const size_t idx = x->cache.next++;
-  if (q.z >= x->wall_top) return;
+  if (q.z >= x->wall_top || q.z > x->floor_top) return;
   const double zb = g.per_dz.of(q.z - g.z0);
   if (zb < 0 || zb >= g.Z) return;
   const double dx = q.x - x->m->axis.cx(q.z), dy = q.y - x->m->axis.cy(q.z);
@@ -266,55 +267,70 @@ void floor_share_pass(void *c, const Point &q) {
   if (f.state == kFloor && std::fabs(q.z - double(f.value)) <= x->band) ++b.n_floor;
 }
 
-void grid_pass(void *c, const Point &q) {
+// Passes 1 and 2 over a batch. The context is read into locals once per
+// batch (the compiler cannot keep it in registers across the bins' stores
+// otherwise), and pass 1 and 2 are separate loops (no per-point flag).
+template <bool kSecond>
+void grid_batch(void *c, const Point *pts, size_t count) {
   auto *x = static_cast<GridCtx *>(c);
-  const Geo &g = x->g;
-  const size_t idx = x->cache.next++;
-  if (!x->second && idx < x->cache.cap) x->cache.bin[idx] = kNoTheta;
-  // floor map: every point below the rim
-  if (q.z < x->m->rim_mm) {
-    const double fx = g.per_cell.of(q.x - g.fx0), fy = g.per_cell.of(q.y - g.fy0);
-    if (fx >= 0 && fy >= 0 && fx < g.C && fy < g.C) {
-      FloorCell &f = x->ws->floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
-      const auto z = float(q.z);
-      if (!x->second) {
-        offer_low(&f.low1, &f.low2, z);
-      } else {
-        const bool near = z <= near_min(f) + x->band;  // no branch, as above
-        f.n += near ? 1 : 0;
-        f.sz += near ? q.z : 0.0;
+  const Geo g = x->g;
+  const Axis axis = x->m->axis;
+  const double rim = x->m->rim_mm, wall_top = x->wall_top, band = x->band;
+  const double C = g.C, Z = g.Z;
+  WallBin *const wall = x->ws->wall;
+  FloorCell *const floor = x->ws->floor;
+  const AngleBins &bins = *x->ws->theta;
+  const ThetaCache cache = x->cache;
+  size_t idx = cache.next;
+  x->cache.next += count;
+  for (size_t k = 0; k < count; ++k, ++idx) {
+    const Point &q = pts[k];
+    if (!kSecond && idx < cache.cap) cache.bin[idx] = kNoTheta;
+    // floor map: every point below the rim
+    if (q.z < rim) {
+      const double fx = g.per_cell.of(q.x - g.fx0), fy = g.per_cell.of(q.y - g.fy0);
+      if (fx >= 0 && fy >= 0 && fx < C && fy < C) {
+        FloorCell &f = floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
+        const auto z = float(q.z);
+        if (!kSecond) {
+          offer_low(&f.low1, &f.low2, z);
+        } else {
+          const bool near = z <= near_min(f) + band;  // no branch, as above
+          f.n += near ? 1 : 0;
+          f.sz += near ? q.z : 0.0;
+        }
       }
     }
-  }
-  if (q.z >= x->wall_top) return;
-  const double zb = g.per_dz.of(q.z - g.z0);
-  if (zb < 0 || zb >= g.Z) return;
-  const double dx = q.x - x->m->axis.cx(q.z), dy = q.y - x->m->axis.cy(q.z);
-  uint32_t t;
-  if (!x->second) {
-    t = x->ws->theta->bin(dx, dy);
-    if (idx < x->cache.cap) x->cache.bin[idx] = uint8_t(t);
-  } else {
-    t = theta_of(x->cache, idx, dx, dy, *x->ws->theta);
-  }
-  WallBin &b = x->ws->wall[size_t(uint32_t(zb)) * g.T + t];
-  const auto r = float(std::sqrt(dx * dx + dy * dy));
-  if (!x->second) {
-    ++b.n_all;
-    offer_top(&b.top1, &b.top2, r);
-  } else if (r >= near_max(b) - b.band) {
-    const double zr = q.z - (g.z0 + (uint32_t(zb) + 0.5) * g.dz);
-    ++b.n;
-    b.sr += r;
-    b.sz += zr;
-    b.szz += zr * zr;
-    b.srz += double(r) * zr;
-    // The angle from the bin's centre only for the surface points.
-    const double ar = x->ws->theta->from_centre(t, dx, dy);
-    b.sa += ar;
-    b.saa += ar * ar;
-    b.sra += double(r) * ar;
-    b.sza += zr * ar;
+    if (q.z >= wall_top) continue;
+    const double zb = g.per_dz.of(q.z - g.z0);
+    if (zb < 0 || zb >= Z) continue;
+    const double dx = q.x - axis.cx(q.z), dy = q.y - axis.cy(q.z);
+    uint32_t t;
+    if (!kSecond) {
+      t = bins.bin(dx, dy);
+      if (idx < cache.cap) cache.bin[idx] = uint8_t(t);
+    } else {
+      t = theta_of(cache, idx, dx, dy, bins);
+    }
+    WallBin &b = wall[size_t(uint32_t(zb)) * g.T + t];
+    const auto r = float(std::sqrt(dx * dx + dy * dy));
+    if (!kSecond) {
+      ++b.n_all;
+      offer_top(&b.top1, &b.top2, r);
+    } else if (r >= near_max(b) - b.band) {
+      const double zr = q.z - (g.z0 + (uint32_t(zb) + 0.5) * g.dz);
+      ++b.n;
+      b.sr += r;
+      b.sz += zr;
+      b.szz += zr * zr;
+      b.srz += double(r) * zr;
+      // The angle from the bin's centre only for the surface points.
+      const double ar = bins.from_centre(t, dx, dy);
+      b.sa += ar;
+      b.saa += ar * ar;
+      b.sra += double(r) * ar;
+      b.sza += zr * ar;
+    }
   }
 }
 
@@ -774,11 +790,11 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty};
 
   GridCtx gc{g, &ws, m, p.band_mm, rim_mm - p.rim_guard_mm, false, theta_cache(ws)};
-  src.visit(src.ctx, each<grid_pass>, &gc);
+  src.visit(src.ctx, grid_batch<false>, &gc);
   widen_bands_on_slopes(ws, g, p);
   gc.second = true;
   gc.cache.start();
-  src.visit(src.ctx, each<grid_pass>, &gc);
+  src.visit(src.ctx, grid_batch<true>, &gc);
 
   for (size_t i = 0; i < cells; ++i) {
     FloorCell &f = ws.floor[i];
@@ -790,6 +806,14 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   fill_floor(ws, g);
   flood_floor(ws, g, p);
   drop_floor_bumps(ws, g, p);
+  // A point can only lie on the floor within band of a floor cell's value:
+  // higher points (most of the wall) are skipped before any arithmetic
+  // (with a margin over the rounding of z - value <= band).
+  float floor_max = -HUGE_VALF;
+  for (size_t i = 0; i < cells; ++i) {
+    if (ws.floor[i].state == kFloor) floor_max = std::max(floor_max, ws.floor[i].value);
+  }
+  gc.floor_top = double(floor_max) + p.band_mm + 1e-6 * (1.0 + std::fabs(double(floor_max)));
   gc.cache.start();
   src.visit(src.ctx, each<floor_share_pass>, &gc);
   for (size_t i = 0; i < bins; ++i) {
