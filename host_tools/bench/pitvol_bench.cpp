@@ -207,7 +207,8 @@ bool on_path(const char *prog) {
 }
 
 // 4. Scaling: this program re-run as a child streams n points (seed 3) and
-// finishes; it prints "n push_ms push_cpu_ms finish_ms volume exact hwm_kib".
+// finishes; it prints "n push_ms push_cpu_ms finish_ms finish_cpu_ms volume exact
+// hwm_kib points_stored status".
 int scale_child(uint64_t n) {
   pv::synth::PitSpec spec;
   spec.seed = 3;
@@ -227,11 +228,14 @@ int scale_child(uint64_t n) {
   }
   pv_result_t r{};
   const auto t0 = Clock::now();
+  const double c0 = cpu_ms();
   const pv_status_t st = pv_session_finish(session.s, &r);
+  const double finish_cpu = cpu_ms() - c0;
   const double finish_ms = ms_between(t0, Clock::now());
-  std::printf("%llu %.3f %.3f %.3f %.6f %.6f %ld %s\n", (unsigned long long)n, push_ms, push_cpu,
-              finish_ms, st == PV_OK ? r.volume_cm3 : NAN, pv::synth::exact_volume_cm3(spec),
-              vm_hwm_kib(), pv_status_name(st));
+  std::printf("%llu %.3f %.3f %.3f %.3f %.6f %.6f %ld %llu %s\n", (unsigned long long)n, push_ms,
+              push_cpu, finish_ms, finish_cpu, st == PV_OK ? r.volume_cm3 : NAN,
+              pv::synth::exact_volume_cm3(spec), vm_hwm_kib(),
+              (unsigned long long)r.points_stored, pv_status_name(st));
   return st == PV_OK ? 0 : 1;
 }
 
@@ -410,8 +414,9 @@ int main(int argc, char **argv) {
   // 4. scaling, one child per size
   struct ScaleRow {
     uint64_t n;
-    double push_ms, push_cpu, finish_ms, volume, exact;
+    double push_ms, push_cpu, finish_ms, finish_cpu, volume, exact;
     long hwm_kib;
+    unsigned long long stored;
     std::string status;
   };
   std::vector<ScaleRow> scale;
@@ -421,12 +426,13 @@ int main(int argc, char **argv) {
     if (fd < 0) break;
     close(fd);
     const int rc = run_quiet({self, "--scale-one", std::to_string(n)}, out_path);
-    ScaleRow r{n, NAN, NAN, NAN, NAN, NAN, -1, rc == 0 ? "PV_OK" : "failed"};
+    ScaleRow r{n, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0, rc == 0 ? "PV_OK" : "failed"};
     char status[64] = "";
     unsigned long long nn = 0;
     if (FILE *f = std::fopen(out_path, "r")) {
-      if (std::fscanf(f, "%llu %lf %lf %lf %lf %lf %ld %63s", &nn, &r.push_ms, &r.push_cpu,
-                      &r.finish_ms, &r.volume, &r.exact, &r.hwm_kib, status) == 8) {
+      if (std::fscanf(f, "%llu %lf %lf %lf %lf %lf %lf %ld %llu %63s", &nn, &r.push_ms, &r.push_cpu,
+                      &r.finish_ms, &r.finish_cpu, &r.volume, &r.exact, &r.hwm_kib, &r.stored,
+                      status) == 10) {
         r.status = status;
       }
       std::fclose(f);
@@ -537,13 +543,14 @@ int main(int argc, char **argv) {
       std::printf("\nScaling (default method; a child process per size streams a synthetic pit, seed 3, "
                   "generated 4096 points at a time; exact volume %.1f cm3):\n\n",
                   scale[0].exact);
-      std::printf("| points | push time | push rate | finish() | peak RSS | volume | error | status |\n"
-                  "|---|---|---|---|---|---|---|---|\n");
+      std::printf("| points | push time | push rate (CPU) | points stored | finish() | peak RSS | volume | error | status |\n"
+                  "|---|---|---|---|---|---|---|---|---|\n");
       for (const auto &r : scale) {
-        std::printf("| %llu | %.0f ms (CPU %.0f) | %.1f M points/s | %.1f ms | %.1f MiB | %.1f cm3 | %+.3f %% | %s |\n",
+        std::printf("| %llu | %.0f ms (CPU %.0f) | %.1f M points/s (%.1f) | %llu | %.1f ms (CPU %.1f) | %.1f MiB | %.1f cm3 | %+.3f %% | %s |\n",
                     (unsigned long long)r.n, r.push_ms, r.push_cpu, double(r.n) / r.push_ms / 1e3,
-                    r.finish_ms, double(r.hwm_kib) / 1024.0, r.volume,
-                    100.0 * (r.volume / r.exact - 1.0), r.status.c_str());
+                    double(r.n) / r.push_cpu / 1e3, r.stored, r.finish_ms, r.finish_cpu,
+                    double(r.hwm_kib) / 1024.0, r.volume, 100.0 * (r.volume / r.exact - 1.0),
+                    r.status.c_str());
       }
     }
   } else {
@@ -557,10 +564,13 @@ int main(int argc, char **argv) {
     for (const auto &r : rows) {
       std::printf("%-*s  %-*s  %s\n", int(w0), r.what.c_str(), int(w1), r.value.c_str(), r.note.c_str());
     }
-    if (!scale.empty()) std::printf("\nscaling: points  push_ms  push_cpu_ms  finish_ms  peak_rss_mib  volume_cm3  status\n");
+    if (!scale.empty()) {
+      std::printf("\nscaling: points  push_ms  push_cpu_ms  stored  finish_ms  finish_cpu_ms  peak_rss_mib  volume_cm3  status\n");
+    }
     for (const auto &r : scale) {
-      std::printf("  %llu  %.0f  %.0f  %.1f  %.1f  %.1f  %s\n", (unsigned long long)r.n, r.push_ms,
-                  r.push_cpu, r.finish_ms, double(r.hwm_kib) / 1024.0, r.volume, r.status.c_str());
+      std::printf("  %llu  %.0f  %.0f  %llu  %.1f  %.1f  %.1f  %.1f  %s\n", (unsigned long long)r.n,
+                  r.push_ms, r.push_cpu, r.stored, r.finish_ms, r.finish_cpu,
+                  double(r.hwm_kib) / 1024.0, r.volume, r.status.c_str());
     }
   }
   return 0;
