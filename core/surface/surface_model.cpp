@@ -108,15 +108,23 @@ void centroid_pass(void *c, const Point &q) {
   ++x->n;
 }
 
-void slab_pass(void *c, const Point &q) {
+// The context in locals for the batch, as in grid_batch.
+void slab_batch(void *c, const Point *pts, size_t count) {
   auto *x = static_cast<Ctx *>(c);
-  if (q.z < x->z_lo || q.z >= x->z_hi) return;
-  const auto s = uint32_t((q.z - x->z_lo) / x->p->slab_mm);
-  if (s >= x->ws->cap.slabs) return;
-  const double dx = q.x - x->sx, dy = q.y - x->sy;
-  const uint32_t b = x->ws->sectors->bin(dx, dy);
-  float *t = x->ws->slab_top + (size_t(s) * kAxisSectors + b) * 2;
-  offer_top(t, t + 1, float(std::sqrt(dx * dx + dy * dy)));
+  const double z_lo = x->z_lo, z_hi = x->z_hi, slab = x->p->slab_mm, sx = x->sx, sy = x->sy;
+  const uint32_t slabs = x->ws->cap.slabs;
+  const AngleBins &sectors = *x->ws->sectors;
+  float *const top = x->ws->slab_top;
+  for (size_t k = 0; k < count; ++k) {
+    const Point &q = pts[k];
+    if (q.z < z_lo || q.z >= z_hi) continue;
+    const auto s = uint32_t((q.z - z_lo) / slab);
+    if (s >= slabs) continue;
+    const double dx = q.x - sx, dy = q.y - sy;
+    const uint32_t b = sectors.bin(dx, dy);
+    float *t = top + (size_t(s) * kAxisSectors + b) * 2;
+    offer_top(t, t + 1, float(std::sqrt(dx * dx + dy * dy)));
+  }
 }
 
 // Centre of each slab's outline (sector near-maxima as a polygon), then a
@@ -774,7 +782,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   x.sy /= double(x.n);
   const uint32_t slabs = std::min<uint32_t>(cap.slabs, uint32_t(std::ceil(depth / p.slab_mm)));
   std::fill(ws.slab_top, ws.slab_top + size_t(slabs) * kAxisSectors * 2, kNone);
-  src.visit(src.ctx, each<slab_pass>, &x);
+  src.visit(src.ctx, slab_batch, &x);
   fit_axis(&x, slabs);
 
   // The floor map is centred on the axis at the bottom.
