@@ -33,10 +33,14 @@ constexpr double kBaseRelInterval = 0.0010;
 constexpr double kRimSigmaMm = 0.3;
 
 // pv_session_estimate() builds the model from every kEstimateStride-th
-// stored point of each bin, so the live figure costs a fraction of
-// finish()'s passes; finish() reads every point. (By place in the bin, not
-// by hash: a hash per point and a random branch cost as much as the pass.)
-constexpr uint32_t kEstimateStride = 4;
+// stored point of each bin, so the live figure costs part of finish()'s
+// passes; finish() reads every point. (By place in the bin, not by hash: a
+// hash per point and a random branch cost as much as the pass.) Measured on
+// the 33 corpus scans, estimate after the last push against finish: every
+// 2nd point, all measured, |difference| 0.032 % mean, 0.16 % max; every
+// 4th point, hardly cheaper (the rest of measure() stays), two deep_narrow
+// scans refused with PV_ERR_WALL_GAP and 0.76 % max.
+constexpr uint32_t kEstimateStride = 2;
 
 constexpr uint32_t kOccupancyStride = 4;
 
