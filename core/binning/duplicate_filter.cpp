@@ -28,15 +28,24 @@ uint64_t pack21(int32_t x, int32_t y, int32_t z) {
          ((uint64_t(uint32_t(z)) & m) << 42);
 }
 
-uint32_t bucket_of(const Cell &k) {
-  // Arithmetic shift: floor division, also for negative cells.
-  return uint32_t(mix64(pack21(k.c[0] >> kBlockShift, k.c[1] >> kBlockShift, k.c[2] >> kBlockShift)) >>
-                  (64 - kBucketBits));
+// The hash of a cell's block (cells >> 4, arithmetic shift: floor division,
+// also for negative cells).
+uint64_t block_hash(int32_t x, int32_t y, int32_t z) {
+  return mix64(pack21(x >> kBlockShift, y >> kBlockShift, z >> kBlockShift));
 }
 
-uint32_t fingerprint_of(const Cell &k) {
-  const uint32_t f = uint32_t(mix64(pack21(k.c[0], k.c[1], k.c[2]) ^ 0x5bd1e9955bd1e995ull));
-  return f == 0 ? 1 : f;  // 0 marks an empty way
+uint32_t bucket_of(uint64_t block_hash) { return uint32_t(block_hash >> (64 - kBucketBits)); }
+
+// Bits 12..31 of the fingerprint: hash bits the bucket does not use.
+uint32_t fp_block_of(uint64_t block_hash) { return uint32_t(block_hash >> 12) & 0xFFFFF000u; }
+
+// The fingerprint: the block's part and the cell's place in its block.
+// Never below 16: a bucket's cursor (0..14) shares its cache line.
+uint32_t fingerprint_of(uint32_t fp_block, const Cell &k) {
+  constexpr int32_t m = (1 << kBlockShift) - 1;
+  const uint32_t f = fp_block | uint32_t(k.c[0] & m) | uint32_t(k.c[1] & m) << 4 |
+                     uint32_t(k.c[2] & m) << 8;
+  return f < 16 ? f + 16 : f;
 }
 
 // floor() for |v| < 2^31 without a libm call.
@@ -61,8 +70,10 @@ bool make_probe(float x, float y, float z, Probe *pr) {
     near |= (frac < DuplicateFilter::kNearCells) | (frac > 1.0f - DuplicateFilter::kNearCells);
   }
   pr->near = near;
-  pr->bucket = bucket_of(pr->cell);
-  pr->fp = fingerprint_of(pr->cell);
+  const uint64_t h = block_hash(pr->cell.c[0], pr->cell.c[1], pr->cell.c[2]);
+  pr->bucket = bucket_of(h);
+  pr->fp_block = fp_block_of(h);
+  pr->fp = fingerprint_of(pr->fp_block, pr->cell);
   return true;
 }
 
@@ -75,14 +86,16 @@ void DuplicateFilter::init(void *memory) {
 
 void DuplicateFilter::clear() { std::memset(buckets_, 0, bytes_needed()); }
 
-bool DuplicateFilter::contains(uint32_t bucket, uint32_t f) const {
-  const Bucket &b = buckets_[bucket];
-  bool hit = false;
-  for (uint32_t w = 0; w < kWays; ++w) hit |= b.fp[w] == f;  // branch-free: vectorises
-  return hit;
+inline bool DuplicateFilter::contains(uint32_t bucket, uint32_t f) const {
+  // All 16 words of the line, cursor included (fingerprints are >= 16 and
+  // the cursor < 15): four vector compares, no branch.
+  const auto *w = reinterpret_cast<const uint32_t *>(&buckets_[bucket]);
+  uint32_t hit = 0;
+  for (uint32_t i = 0; i < 16; ++i) hit |= w[i] == f ? 1u : 0u;
+  return hit != 0;
 }
 
-void DuplicateFilter::insert(uint32_t bucket, uint32_t f) {
+inline void DuplicateFilter::insert(uint32_t bucket, uint32_t f) {
   Bucket &b = buckets_[bucket];
   b.fp[b.next] = f;
   b.next = b.next + 1 == kWays ? 0 : b.next + 1;
@@ -104,7 +117,15 @@ bool DuplicateFilter::check_and_record(const Probe &pr, const float *v) {
         for (int32_t z = lo[2]; z <= hi[2]; ++z) {
           const Cell n{{x, y, z}};
           if (x == pr.cell.c[0] && y == pr.cell.c[1] && z == pr.cell.c[2]) continue;
-          if (contains(bucket_of(n), fingerprint_of(n))) return true;
+          // A neighbour in the same block shares the bucket and the hash.
+          const bool same_block = ((x ^ pr.cell.c[0]) | (y ^ pr.cell.c[1]) | (z ^ pr.cell.c[2])) >>
+                                      kBlockShift == 0;
+          if (same_block) {
+            if (contains(pr.bucket, fingerprint_of(pr.fp_block, n))) return true;
+            continue;
+          }
+          const uint64_t h = block_hash(x, y, z);
+          if (contains(bucket_of(h), fingerprint_of(fp_block_of(h), n))) return true;
         }
       }
     }

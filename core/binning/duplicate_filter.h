@@ -14,6 +14,12 @@
 // cell key (the other 14 bits pick the bucket): two distinct points are
 // taken for one with probability 15 / 2^32 per lookup, about one point in a
 // 10-million-point scan every 20 scans; dropping it is harmless.
+// One hash per point: the bucket comes from the top bits of the hash of the
+// point's block of 16^3 cells, the fingerprint from 20 other bits of that
+// hash and the cell's 12-bit place in its block (so cells of one block,
+// which share a bucket, never share a fingerprint). A lookup compares the
+// whole cache line (cursor included: fingerprints are >= 16) in one
+// branch-free sweep.
 //
 // Near-exact duplicates: a resend that went through another conversion can
 // differ in the last bits. Points are keyed by a cell of 2^-7 mm (about
@@ -49,6 +55,7 @@ class DuplicateFilter {
     Cell cell;
     uint32_t bucket;
     uint32_t fp;
+    uint32_t fp_block;  // the block's part of the fingerprint (20 bits << 12)
     bool near;  // within the tolerance of a cell boundary on some axis
   };
 
@@ -70,7 +77,7 @@ class DuplicateFilter {
 
  private:
   struct Bucket {
-    uint32_t next;  // FIFO cursor: the way the next fingerprint replaces
+    uint32_t next;  // FIFO cursor: the way the next fingerprint replaces (< 16)
     uint32_t fp[kWays];  // 0: empty
   };
   static_assert(sizeof(Bucket) == 64, "one bucket, one cache line");

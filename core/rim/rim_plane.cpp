@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <cmath>
 
+#include "common/angle.h"
+
 namespace pv::rim {
 
 namespace {
@@ -25,8 +27,7 @@ void SectorTops::clear(double centre_x, double centre_y) {
 }
 
 void SectorTops::offer(double px, double py, double pz) {
-  double a = std::atan2(py - cy, px - cx);
-  if (a < 0) a += 2 * kPi;
+  const double a = angle_2pi(py - cy, px - cx);  // libm-free (common/angle.h)
   auto s = uint32_t(a * (kRimSectors / (2 * kPi)));
   if (s >= kRimSectors) s = kRimSectors - 1;
   const auto v = float(pz);

@@ -267,7 +267,10 @@ extern "C" pv_status_t pv_session_estimate(pv_session_t *s, pv_result_t *out) {
     out->status = PV_ERR_TOO_FEW_POINTS;
     return out->status;
   }
-  return guarded_measure(s, out);
+  s->estimating = true;
+  const pv_status_t st = guarded_measure(s, out);
+  s->estimating = false;
+  return st;
 }
 
 extern "C" pv_status_t pv_session_finish(pv_session_t *s, pv_result_t *out) {

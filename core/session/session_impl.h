@@ -136,6 +136,7 @@ struct pv_session {
   pv_layer_info_t *layer_info;  // layers
   uint32_t layer_info_count;
   pv::surface::Workspace surf;  // method surface only (else empty)
+  bool estimating;  // measure() runs for pv_session_estimate (a live figure)
 };
 
 namespace pv::session {

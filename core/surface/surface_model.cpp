@@ -1,5 +1,7 @@
 #include "surface/surface_model.h"
 
+#include "surface/angle_bins.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -41,35 +43,27 @@ size_t layout(const Capacity &c, unsigned char *base, Workspace *ws) {
   w.fill_idx = take<uint32_t>(base, &off, bins);
   w.fill_val = take<float>(base, &off, std::max(bins * 3, cells));
   w.queue = take<uint32_t>(base, &off, cells);
+  w.theta = take<AngleBins>(base, &off, 1);
+  w.sectors = take<AngleBins>(base, &off, 1);
   if (ws != nullptr) *ws = w;
   return off;
 }
 
 // Angle bin of (dx, dy) among n equal bins starting at angle 0.
-inline uint32_t angle_bin(double dx, double dy, uint32_t n, double *angle = nullptr) {
-  double a = std::atan2(dy, dx);
-  if (a < 0) a += 2 * kPi;
-  if (angle != nullptr) *angle = a;
-  auto b = uint32_t(a * (double(n) / (2 * kPi)));
-  return b >= n ? n - 1 : b;
-}
 
+// The two largest (smallest) so far, kept with min/max, not branches: which
+// way a point goes is random, and a mispredicted branch per point cost more
+// than the pass's arithmetic. (Same values as the branches, top1 >= top2.)
 inline void offer_top(float *top1, float *top2, float v) {
-  if (v > *top1) {
-    *top2 = *top1;
-    *top1 = v;
-  } else if (v > *top2) {
-    *top2 = v;
-  }
+  const float t1 = *top1, t2 = *top2;
+  *top1 = std::max(t1, v);
+  *top2 = std::max(t2, std::min(t1, v));
 }
 
 inline void offer_low(float *low1, float *low2, float v) {
-  if (v < *low1) {
-    *low2 = *low1;
-    *low1 = v;
-  } else if (v < *low2) {
-    *low2 = v;
-  }
+  const float l1 = *low1, l2 = *low2;
+  *low1 = std::min(l1, v);
+  *low2 = std::min(l2, std::max(l1, v));
 }
 
 // The surface reference of a wall bin: its largest radius. (The second
@@ -89,9 +83,19 @@ struct Ctx {
   uint64_t n;
 };
 
+// The median (mean of the two middle values for even n), by selection, not
+// a full sort: the same value, in a third of the time.
 double median_small(float *v, size_t n) {
-  std::sort(v, v + n);
-  return n % 2 ? double(v[n / 2]) : 0.5 * (double(v[n / 2 - 1]) + double(v[n / 2]));
+  std::nth_element(v, v + n / 2, v + n);
+  if (n % 2) return double(v[n / 2]);
+  const float below = *std::max_element(v, v + n / 2);
+  return 0.5 * (double(below) + double(v[n / 2]));
+}
+
+// A pass over the points: the per-point function inlined in the batch loop.
+template <void (*F)(void *, const Point &)>
+void each(void *c, const Point *q, size_t n) {
+  for (size_t i = 0; i < n; ++i) F(c, q[i]);
 }
 
 // --- axis ------------------------------------------------------------------
@@ -104,22 +108,29 @@ void centroid_pass(void *c, const Point &q) {
   ++x->n;
 }
 
-void slab_pass(void *c, const Point &q) {
+// The context in locals for the batch, as in grid_batch.
+void slab_batch(void *c, const Point *pts, size_t count) {
   auto *x = static_cast<Ctx *>(c);
-  if (q.z < x->z_lo || q.z >= x->z_hi) return;
-  const auto s = uint32_t((q.z - x->z_lo) / x->p->slab_mm);
-  if (s >= x->ws->cap.slabs) return;
-  const double dx = q.x - x->sx, dy = q.y - x->sy;
-  const uint32_t b = angle_bin(dx, dy, kAxisSectors);
-  float *t = x->ws->slab_top + (size_t(s) * kAxisSectors + b) * 2;
-  offer_top(t, t + 1, float(std::sqrt(dx * dx + dy * dy)));
+  const double z_lo = x->z_lo, z_hi = x->z_hi, slab = x->p->slab_mm, sx = x->sx, sy = x->sy;
+  const uint32_t slabs = x->ws->cap.slabs;
+  const AngleBins &sectors = *x->ws->sectors;
+  float *const top = x->ws->slab_top;
+  for (size_t k = 0; k < count; ++k) {
+    const Point &q = pts[k];
+    if (q.z < z_lo || q.z >= z_hi) continue;
+    const auto s = uint32_t((q.z - z_lo) / slab);
+    if (s >= slabs) continue;
+    const double dx = q.x - sx, dy = q.y - sy;
+    const uint32_t b = sectors.bin(dx, dy);
+    float *t = top + (size_t(s) * kAxisSectors + b) * 2;
+    offer_top(t, t + 1, float(std::sqrt(dx * dx + dy * dy)));
+  }
 }
 
 // Centre of each slab's outline (sector near-maxima as a polygon), then a
 // weighted line through them: the axis may lean.
 void fit_axis(Ctx *x, uint32_t slabs) {
   const Workspace &ws = *x->ws;
-  const double dth = 2 * kPi / kAxisSectors;
   double sw = 0, sz = 0, szz = 0, sxv = 0, syv = 0, szx = 0, szy = 0;
   for (uint32_t s = 0; s < slabs; ++s) {
     const float *t = ws.slab_top + size_t(s) * kAxisSectors * 2;
@@ -138,8 +149,7 @@ void fit_axis(Ctx *x, uint32_t slabs) {
       const uint32_t kk = k % kAxisSectors;
       const float r = t[2 * kk + 1] > kNone ? t[2 * kk + 1] : t[2 * kk];
       if (r <= kNone) continue;
-      const double th = (kk + 0.5) * dth;
-      const double px = r * std::cos(th), py = r * std::sin(th);
+      const double px = r * ws.sectors->centre_cos(kk), py = r * ws.sectors->centre_sin(kk);
       if (first) {
         px0 = px;
         py0 = py;
@@ -186,14 +196,51 @@ void fit_axis(Ctx *x, uint32_t slabs) {
 
 // --- wall grid and floor map -------------------------------------------------
 
+// a / d, as a product where 1 / d is exact (d a power of two, as the
+// default 2 mm bins and cells): the same bits, without a division per point.
+struct Divisor {
+  double d, inv;
+  bool exact;
+  explicit Divisor(double v) : d(v), inv(1.0 / v) {
+    int e = 0;
+    exact = std::frexp(v, &e) == 0.5;
+  }
+  double of(double a) const { return exact ? a * inv : a / d; }
+};
+
 struct Geo {
   double z0, dz, fx0, fy0, cell;
   uint32_t T, Z, C;
+  Divisor per_dz, per_cell;
 };
 
 Geo geo_of(const Workspace &ws, const Model &m, const Params &p) {
   return Geo{m.z0_mm, p.dz_mm, m.floor_x0, m.floor_y0, p.cell_mm, ws.cap.theta_bins, m.z_bins,
-             ws.cap.cells};
+             ws.cap.cells, Divisor(p.dz_mm), Divisor(p.cell_mm)};
+}
+
+// The theta bin of each point around the final axis, kept from the first
+// grid pass for the later ones (Workspace::point_theta): the angle is the
+// costliest part of a pass. kNoTheta: not computed (out of the wall grid).
+constexpr uint8_t kNoTheta = 255;
+
+struct ThetaCache {
+  uint8_t *bin;
+  size_t cap;  // 0: no cache
+  size_t next;  // index of the next point in visit order
+  void start() { next = 0; }
+};
+
+ThetaCache theta_cache(const Workspace &ws) {
+  const bool fits = ws.point_theta != nullptr && ws.cap.theta_bins <= kNoTheta;
+  return ThetaCache{fits ? ws.point_theta : nullptr, fits ? ws.point_theta_cap : 0, 0};
+}
+
+// Bin of the point at index i: cached, else computed.
+inline uint32_t theta_of(const ThetaCache &c, size_t i, double dx, double dy,
+                         const AngleBins &bins) {
+  if (i < c.cap && c.bin[i] != kNoTheta) return c.bin[i];
+  return bins.bin(dx, dy);
 }
 
 struct GridCtx {
@@ -203,6 +250,8 @@ struct GridCtx {
   double band;
   double wall_top;  // ground points near the rim stay out of the wall grid
   bool second;      // pass 2: accumulate the surface points
+  ThetaCache cache;
+  double floor_top = HUGE_VAL;  // pass 3: no floor cell reaches above this
 };
 
 // Pass 3: a wall bin's surface points that lie on the floor map's floor
@@ -211,60 +260,85 @@ struct GridCtx {
 void floor_share_pass(void *c, const Point &q) {
   auto *x = static_cast<GridCtx *>(c);
   const Geo &g = x->g;
-  if (q.z >= x->wall_top) return;
-  const double zb = (q.z - g.z0) / g.dz;
+  const size_t idx = x->cache.next++;
+  if (q.z >= x->wall_top || q.z > x->floor_top) return;
+  const double zb = g.per_dz.of(q.z - g.z0);
   if (zb < 0 || zb >= g.Z) return;
   const double dx = q.x - x->m->axis.cx(q.z), dy = q.y - x->m->axis.cy(q.z);
-  const uint32_t t = angle_bin(dx, dy, g.T);
+  const uint32_t t = theta_of(x->cache, idx, dx, dy, *x->ws->theta);
   WallBin &b = x->ws->wall[size_t(uint32_t(zb)) * g.T + t];
   const auto r = float(std::sqrt(dx * dx + dy * dy));
   if (r < near_max(b) - b.band) return;
-  const double fx = (q.x - g.fx0) / g.cell, fy = (q.y - g.fy0) / g.cell;
+  const double fx = g.per_cell.of(q.x - g.fx0), fy = g.per_cell.of(q.y - g.fy0);
   if (!(fx >= 0 && fy >= 0 && fx < g.C && fy < g.C)) return;
   const FloorCell &f = x->ws->floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
   if (f.state == kFloor && std::fabs(q.z - double(f.value)) <= x->band) ++b.n_floor;
 }
 
-void grid_pass(void *c, const Point &q) {
+// Passes 1 and 2 over a batch. The context is read into locals once per
+// batch (the compiler cannot keep it in registers across the bins' stores
+// otherwise), and pass 1 and 2 are separate loops (no per-point flag).
+template <bool kSecond>
+void grid_batch(void *c, const Point *pts, size_t count) {
   auto *x = static_cast<GridCtx *>(c);
-  const Geo &g = x->g;
-  // floor map: every point below the rim
-  if (q.z < x->m->rim_mm) {
-    const double fx = (q.x - g.fx0) / g.cell, fy = (q.y - g.fy0) / g.cell;
-    if (fx >= 0 && fy >= 0 && fx < g.C && fy < g.C) {
-      FloorCell &f = x->ws->floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
-      const auto z = float(q.z);
-      if (!x->second) {
-        offer_low(&f.low1, &f.low2, z);
-      } else if (z <= near_min(f) + x->band) {
-        ++f.n;
-        f.sz += q.z;
+  const Geo g = x->g;
+  const Axis axis = x->m->axis;
+  const double rim = x->m->rim_mm, wall_top = x->wall_top, band = x->band;
+  const double C = g.C, Z = g.Z;
+  WallBin *const wall = x->ws->wall;
+  FloorCell *const floor = x->ws->floor;
+  const AngleBins &bins = *x->ws->theta;
+  const ThetaCache cache = x->cache;
+  size_t idx = cache.next;
+  x->cache.next += count;
+  for (size_t k = 0; k < count; ++k, ++idx) {
+    const Point &q = pts[k];
+    if (!kSecond && idx < cache.cap) cache.bin[idx] = kNoTheta;
+    // floor map: every point below the rim
+    if (q.z < rim) {
+      const double fx = g.per_cell.of(q.x - g.fx0), fy = g.per_cell.of(q.y - g.fy0);
+      if (fx >= 0 && fy >= 0 && fx < C && fy < C) {
+        FloorCell &f = floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
+        const auto z = float(q.z);
+        if (!kSecond) {
+          offer_low(&f.low1, &f.low2, z);
+        } else {
+          const bool near = z <= near_min(f) + band;  // no branch, as above
+          f.n += near ? 1 : 0;
+          f.sz += near ? q.z : 0.0;
+        }
       }
     }
-  }
-  if (q.z >= x->wall_top) return;
-  const double zb = (q.z - g.z0) / g.dz;
-  if (zb < 0 || zb >= g.Z) return;
-  const double dx = q.x - x->m->axis.cx(q.z), dy = q.y - x->m->axis.cy(q.z);
-  double ang = 0;
-  const uint32_t t = angle_bin(dx, dy, g.T, &ang);
-  WallBin &b = x->ws->wall[size_t(uint32_t(zb)) * g.T + t];
-  const auto r = float(std::sqrt(dx * dx + dy * dy));
-  if (!x->second) {
-    ++b.n_all;
-    offer_top(&b.top1, &b.top2, r);
-  } else if (r >= near_max(b) - b.band) {
-    const double zr = q.z - (g.z0 + (uint32_t(zb) + 0.5) * g.dz);
-    ++b.n;
-    b.sr += r;
-    b.sz += zr;
-    b.szz += zr * zr;
-    b.srz += double(r) * zr;
-    const double ar = ang - (t + 0.5) * (2 * kPi / g.T);
-    b.sa += ar;
-    b.saa += ar * ar;
-    b.sra += double(r) * ar;
-    b.sza += zr * ar;
+    if (q.z >= wall_top) continue;
+    const double zb = g.per_dz.of(q.z - g.z0);
+    if (zb < 0 || zb >= Z) continue;
+    const double dx = q.x - axis.cx(q.z), dy = q.y - axis.cy(q.z);
+    uint32_t t;
+    if (!kSecond) {
+      t = bins.bin(dx, dy);
+      if (idx < cache.cap) cache.bin[idx] = uint8_t(t);
+    } else {
+      t = theta_of(cache, idx, dx, dy, bins);
+    }
+    WallBin &b = wall[size_t(uint32_t(zb)) * g.T + t];
+    const auto r = float(std::sqrt(dx * dx + dy * dy));
+    if (!kSecond) {
+      ++b.n_all;
+      offer_top(&b.top1, &b.top2, r);
+    } else if (r >= near_max(b) - b.band) {
+      const double zr = q.z - (g.z0 + (uint32_t(zb) + 0.5) * g.dz);
+      ++b.n;
+      b.sr += r;
+      b.sz += zr;
+      b.szz += zr * zr;
+      b.srz += double(r) * zr;
+      // The angle from the bin's centre only for the surface points.
+      const double ar = bins.from_centre(t, dx, dy);
+      b.sa += ar;
+      b.saa += ar * ar;
+      b.sra += double(r) * ar;
+      b.sza += zr * ar;
+    }
   }
 }
 
@@ -331,7 +405,9 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
         const int zz = int(z) + dz;
         if (zz < 0 || zz >= int(g.Z)) continue;
         for (int dt = -3; dt <= 3; ++dt) {
-          const uint32_t tt = uint32_t((int(t) + dt + int(g.T)) % int(g.T));
+          int wrapped = int(t) + dt;  // around the circle, without a division
+          wrapped += wrapped < 0 ? int(g.T) : (wrapped >= int(g.T) ? -int(g.T) : 0);
+          const auto tt = uint32_t(wrapped);
           const WallBin &o = ws.wall[size_t(zz) * g.T + tt];
           if ((dz || dt) && o.state == kSeen) {
             nb[k++] = ws.wall_val[size_t(zz) * g.T + tt];
@@ -345,8 +421,12 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
         ++m->rejected_bins;
         continue;
       }
-      const double med = median_small(nb, k);
       const double v = ws.wall_val[size_t(z) * g.T + t];
+      // The median lies between the smallest and the largest neighbour:
+      // a value that passes against both passes against it (no selection).
+      const double lo = *std::min_element(nb, nb + k), hi = *std::max_element(nb, nb + k);
+      if (v >= hi - p.inward_reject_mm && v <= lo + 4 * p.inward_reject_mm) continue;
+      const double med = median_small(nb, k);
       if (v < med - p.inward_reject_mm || v > med + 4 * p.inward_reject_mm) {
         b.state = kRejected;
         ++m->rejected_bins;
@@ -395,34 +475,54 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
       below = int(z);
     }
   }
+  // Round by round from the filled neighbours. After the first round a bin
+  // can only gain a filled neighbour from the round before, so later rounds
+  // look at the neighbours of the last round's fills alone (kept in the ray
+  // scratch, unused until integrate(); a full scan where it is too small):
+  // the same fills as scanning every bin each round.
+  auto *cand = reinterpret_cast<uint32_t *>(ws.ray_floor);
+  const size_t cand_cap = size_t(ws.cap.theta_bins) * ws.cap.ray_steps;
+  static_assert(sizeof(uint32_t) == sizeof(float), "candidates in the ray scratch");
+  constexpr uint8_t kQueuedGap = 254;  // an unfilled bin's gap while queued
+  size_t queued = 0;
+  bool full_scan = true;
   for (uint32_t round = 1;; ++round) {
     size_t k = 0;
-    for (uint32_t z = 0; z < g.Z; ++z) {
-      for (uint32_t t = 0; t < g.T; ++t) {
-        const size_t i = size_t(z) * g.T + t;
-        const uint8_t st = ws.wall[i].state;
-        if (st == kSeen || st == kBridged) continue;
-        double sum = 0;
-        float lo = 1e30f, hi = -1e30f;
-        int cnt = 0;
-        const size_t nbr[4] = {size_t(z) * g.T + (t + 1) % g.T,
-                               size_t(z) * g.T + (t + g.T - 1) % g.T,
-                               z > 0 ? i - g.T : bins, z + 1 < g.Z ? i + g.T : bins};
-        for (size_t j : nbr) {
-          if (j >= bins) continue;
-          const uint8_t s = ws.wall[j].state;
-          if (s != kSeen && s != kBridged) continue;
-          sum += ws.wall_val[j];
-          lo = std::min(lo, ws.wall_lo[j]);
-          hi = std::max(hi, ws.wall_hi[j]);
-          ++cnt;
-        }
-        if (cnt == 0) continue;
-        ws.fill_idx[k] = uint32_t(i);
-        ws.fill_val[3 * k] = float(sum / cnt);
-        ws.fill_val[3 * k + 1] = lo;
-        ws.fill_val[3 * k + 2] = hi;
-        ++k;
+    auto consider = [&](uint32_t z, uint32_t t) {
+      const size_t i = size_t(z) * g.T + t;
+      const uint8_t st = ws.wall[i].state;
+      if (st == kSeen || st == kBridged) return;
+      double sum = 0;
+      float lo = 1e30f, hi = -1e30f;
+      int cnt = 0;
+      const size_t nbr[4] = {size_t(z) * g.T + (t + 1 == g.T ? 0 : t + 1),
+                             size_t(z) * g.T + (t == 0 ? g.T - 1 : t - 1),
+                             z > 0 ? i - g.T : bins, z + 1 < g.Z ? i + g.T : bins};
+      for (size_t j : nbr) {
+        if (j >= bins) continue;
+        const uint8_t s = ws.wall[j].state;
+        if (s != kSeen && s != kBridged) continue;
+        sum += ws.wall_val[j];
+        lo = std::min(lo, ws.wall_lo[j]);
+        hi = std::max(hi, ws.wall_hi[j]);
+        ++cnt;
+      }
+      if (cnt == 0) return;
+      ws.fill_idx[k] = uint32_t(i);
+      ws.fill_val[3 * k] = float(sum / cnt);
+      ws.fill_val[3 * k + 1] = lo;
+      ws.fill_val[3 * k + 2] = hi;
+      ++k;
+    };
+    if (full_scan) {
+      for (uint32_t z = 0; z < g.Z; ++z) {
+        for (uint32_t t = 0; t < g.T; ++t) consider(z, t);
+      }
+    } else {
+      for (size_t q = 0; q < queued; ++q) {
+        const uint32_t i = cand[q];
+        ws.wall[i].gap = 0;
+        consider(i / g.T, i % g.T);
       }
     }
     if (k == 0) break;
@@ -435,7 +535,32 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
       ws.wall[i].gap = uint8_t(std::min<uint32_t>(255, 2 * round));
       ++m->bridged_bins;
     }
+    // Next round's candidates: the unfilled neighbours of this round's fills.
+    queued = 0;
+    full_scan = false;
+    for (size_t q = 0; q < k && !full_scan; ++q) {
+      const uint32_t i = ws.fill_idx[q], z = i / g.T, t = i % g.T;
+      const size_t nbr[4] = {size_t(z) * g.T + (t + 1 == g.T ? 0 : t + 1),
+                             size_t(z) * g.T + (t == 0 ? g.T - 1 : t - 1),
+                             z > 0 ? i - g.T : bins, z + 1 < g.Z ? i + g.T : bins};
+      for (size_t j : nbr) {
+        if (j >= bins) continue;
+        WallBin &o = ws.wall[j];
+        if (o.state == kSeen || o.state == kBridged || o.gap == kQueuedGap) continue;
+        if (queued == cand_cap) {
+          full_scan = true;
+          break;
+        }
+        o.gap = kQueuedGap;
+        cand[queued++] = uint32_t(j);
+      }
+    }
+    if (full_scan) {
+      for (size_t q = 0; q < queued; ++q) ws.wall[cand[q]].gap = 0;
+      queued = 0;
+    }
   }
+  for (size_t q = 0; q < queued; ++q) ws.wall[cand[q]].gap = 0;
   for (size_t i = 0; i < bins; ++i) {
     if (!floor_bin[i]) continue;
     ws.wall[i].state = kFloorBin;
@@ -509,7 +634,11 @@ void drop_floor_bumps(Workspace &ws, const Geo &g, const Params &p) {
           if (o.state == kFloor) nb[n++] = o.value;
         }
       }
-      if (n >= 4 && ws.floor[i].value > median_small(nb, n) + p.floor_bump_mm) ws.queue[k++] = uint32_t(i);
+      if (n < 4) continue;
+      // Not above the lowest neighbour by the bump: not above the median.
+      const double v = ws.floor[i].value;
+      if (v <= double(*std::min_element(nb, nb + n)) + p.floor_bump_mm) continue;
+      if (v > median_small(nb, n) + p.floor_bump_mm) ws.queue[k++] = uint32_t(i);
     }
   }
   for (size_t q = 0; q < k; ++q) ws.floor[ws.queue[q]].state = kSeen;
@@ -517,41 +646,75 @@ void drop_floor_bumps(Workspace &ws, const Geo &g, const Params &p) {
 
 // Floor cells without points inside the pit: from their neighbours, a few
 // rounds (holes of dropout); cells still empty set no floor constraint.
+// Each round reads only values of earlier rounds. After the first, a cell
+// can only become fillable next to a cell the last round filled, so later
+// rounds look at those neighbours alone, not at every cell of the map (most
+// lie outside the pit): the same fills, without eight scans of the map.
+constexpr float kQueuedCell = -1.0e30f;  // an empty cell's value, while queued
+
+void fill_floor_cell(Workspace &ws, uint32_t C, uint32_t x, uint32_t y, size_t *k) {
+  const size_t i = size_t(y) * C + x;
+  if (ws.floor[i].state != kEmpty) return;
+  double s = 0;
+  int cnt = 0;
+  for (int d = 0; d < 4; ++d) {
+    const int xx = int(x) + (d == 0) - (d == 1), yy = int(y) + (d == 2) - (d == 3);
+    if (xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
+    const FloorCell &o = ws.floor[size_t(yy) * C + size_t(xx)];
+    if (o.state == kEmpty) continue;
+    s += o.value;
+    ++cnt;
+  }
+  if (cnt < 2) return;
+  ws.fill_idx[*k] = uint32_t(i);
+  ws.fill_val[*k] = float(s / cnt);
+  ++*k;
+}
+
 void fill_floor(Workspace &ws, const Geo &g) {
   const uint32_t C = g.C;
+  // fill_idx holds a round's fills: at most its capacity (theta x z bins).
+  const size_t cap = size_t(ws.cap.theta_bins) * ws.cap.z_bins;
+  size_t queued = 0;  // candidates of this round in ws.queue
   for (int round = 0; round < 8; ++round) {
     size_t k = 0;
-    for (uint32_t y = 0; y < C; ++y) {
-      for (uint32_t x = 0; x < C; ++x) {
-        const size_t i = size_t(y) * C + x;
-        if (ws.floor[i].state != kEmpty) continue;
-        double s = 0;
-        int cnt = 0;
-        for (int d = 0; d < 4; ++d) {
-          const int xx = int(x) + (d == 0) - (d == 1), yy = int(y) + (d == 2) - (d == 3);
-          if (xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
-          const FloorCell &o = ws.floor[size_t(yy) * C + size_t(xx)];
-          if (o.state == kEmpty) continue;
-          s += o.value;
-          ++cnt;
-        }
-        if (cnt < 2) continue;
-        ws.fill_idx[k] = uint32_t(i);
-        ws.fill_val[k] = float(s / cnt);
-        ++k;
+    if (round == 0) {
+      for (uint32_t y = 0; y < C && k + 1 < cap; ++y) {
+        for (uint32_t x = 0; x < C && k + 1 < cap; ++x) fill_floor_cell(ws, C, x, y, &k);
       }
+    } else {
+      for (size_t q = 0; q < queued && k + 1 < cap; ++q) {
+        const uint32_t i = ws.queue[q];
+        ws.floor[i].value = 0.0f;
+        fill_floor_cell(ws, C, i % C, i / C, &k);
+      }
+      for (size_t q = 0; q < queued; ++q) ws.floor[ws.queue[q]].value = 0.0f;
     }
     if (k == 0) break;
     for (size_t q = 0; q < k; ++q) {
       ws.floor[ws.fill_idx[q]].value = ws.fill_val[q];
       ws.floor[ws.fill_idx[q]].state = kBridged;
     }
+    queued = 0;
+    for (size_t q = 0; q < k; ++q) {
+      const uint32_t i = ws.fill_idx[q], x = i % C, y = i / C;
+      for (int d = 0; d < 4; ++d) {
+        const int xx = int(x) + (d == 0) - (d == 1), yy = int(y) + (d == 2) - (d == 3);
+        if (xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
+        const size_t j = size_t(yy) * C + size_t(xx);
+        FloorCell &o = ws.floor[j];
+        if (o.state != kEmpty || o.value == kQueuedCell) continue;
+        o.value = kQueuedCell;
+        ws.queue[queued++] = uint32_t(j);
+      }
+    }
   }
+  for (size_t q = 0; q < queued; ++q) ws.floor[ws.queue[q]].value = 0.0f;
 }
 
 // R of column t at height z: linear between bin centres.
 double radius_at(const float *val, const Geo &g, uint32_t t, double z) {
-  double u = (z - g.z0) / g.dz - 0.5;
+  double u = g.per_dz.of(z - g.z0) - 0.5;
   if (u <= 0) return val[t];
   if (u >= g.Z - 1) return val[size_t(g.Z - 1) * g.T + t];
   const auto b = uint32_t(u);
@@ -575,7 +738,7 @@ void drop_floor_at_wall(Workspace &ws, const Geo &g, const Model &m, const Param
       const double dx = g.fx0 + (x + 0.5) * g.cell - m.axis.cx(z);
       const double dy = g.fy0 + (y + 0.5) * g.cell - m.axis.cy(z);
       const double r = std::sqrt(dx * dx + dy * dy);
-      const double R = radius_at(ws.wall_val, g, angle_bin(dx, dy, g.T), z);
+      const double R = radius_at(ws.wall_val, g, ws.theta->bin(dx, dy), z);
       if (r > R - p.floor_wall_margin_mm) f.state = kSeen;
     }
   }
@@ -585,7 +748,7 @@ void drop_floor_at_wall(Workspace &ws, const Geo &g, const Model &m, const Param
 
 Capacity capacity_for(const Params &p, double depth_range_mm, double max_radius_mm) {
   Capacity c;
-  c.theta_bins = p.theta_bins;
+  c.theta_bins = std::min(p.theta_bins, AngleBins::kMaxBins);
   c.z_bins = uint32_t(std::ceil(depth_range_mm / p.dz_mm)) + 2;
   c.cells = uint32_t(std::ceil(2 * max_radius_mm / p.cell_mm));
   c.slabs = uint32_t(std::ceil(depth_range_mm / p.slab_mm)) + 2;
@@ -609,15 +772,17 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   if (!(depth > 4 * p.dz_mm)) return Status::NoWall;
   m->z_bins = std::min<uint32_t>(cap.z_bins, uint32_t(std::ceil(depth / p.dz_mm)));
 
+  ws.theta->init(cap.theta_bins);
+  ws.sectors->init(kAxisSectors);
   // Axis: the centroid, then slab outlines around it.
   Ctx x{&p, &ws, m, z_bottom_mm, rim_mm, 0, 0, 0};
-  src.visit(src.ctx, centroid_pass, &x);
+  src.visit(src.ctx, each<centroid_pass>, &x);
   if (x.n < 100) return Status::TooFewPoints;
   x.sx /= double(x.n);
   x.sy /= double(x.n);
   const uint32_t slabs = std::min<uint32_t>(cap.slabs, uint32_t(std::ceil(depth / p.slab_mm)));
   std::fill(ws.slab_top, ws.slab_top + size_t(slabs) * kAxisSectors * 2, kNone);
-  src.visit(src.ctx, slab_pass, &x);
+  src.visit(src.ctx, slab_batch, &x);
   fit_axis(&x, slabs);
 
   // The floor map is centred on the axis at the bottom.
@@ -627,16 +792,17 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   const Geo g = geo_of(ws, *m, p);
   const size_t bins = size_t(g.T) * g.Z;
   for (size_t i = 0; i < bins; ++i) {
-    ws.wall[i] = WallBin{kNone, kNone, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, float(p.band_mm), kEmpty, 0};
+    ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0, 0, 0, 0, 0, 0, 0, 0};
   }
   const size_t cells = size_t(g.C) * g.C;
   for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty};
 
-  GridCtx gc{g, &ws, m, p.band_mm, rim_mm - p.rim_guard_mm, false};
-  src.visit(src.ctx, grid_pass, &gc);
+  GridCtx gc{g, &ws, m, p.band_mm, rim_mm - p.rim_guard_mm, false, theta_cache(ws)};
+  src.visit(src.ctx, grid_batch<false>, &gc);
   widen_bands_on_slopes(ws, g, p);
   gc.second = true;
-  src.visit(src.ctx, grid_pass, &gc);
+  gc.cache.start();
+  src.visit(src.ctx, grid_batch<true>, &gc);
 
   for (size_t i = 0; i < cells; ++i) {
     FloorCell &f = ws.floor[i];
@@ -648,7 +814,16 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   fill_floor(ws, g);
   flood_floor(ws, g, p);
   drop_floor_bumps(ws, g, p);
-  src.visit(src.ctx, floor_share_pass, &gc);
+  // A point can only lie on the floor within band of a floor cell's value:
+  // higher points (most of the wall) are skipped before any arithmetic
+  // (with a margin over the rounding of z - value <= band).
+  float floor_max = -HUGE_VALF;
+  for (size_t i = 0; i < cells; ++i) {
+    if (ws.floor[i].state == kFloor) floor_max = std::max(floor_max, ws.floor[i].value);
+  }
+  gc.floor_top = double(floor_max) + p.band_mm + 1e-6 * (1.0 + std::fabs(double(floor_max)));
+  gc.cache.start();
+  src.visit(src.ctx, each<floor_share_pass>, &gc);
   for (size_t i = 0; i < bins; ++i) {
     WallBin &b = ws.wall[i];
     if (b.n >= p.min_points && 10 * b.n_floor >= 9 * b.n) {
@@ -680,8 +855,7 @@ void prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
   const Geo g = geo_of(ws, m, p);
   const uint32_t K = ws.cap.ray_steps;
   for (uint32_t t = 0; t < g.T; ++t) {
-    const double th = (t + 0.5) * 2 * kPi / g.T;
-    const double c = std::cos(th), s = std::sin(th);
+    const double c = ws.theta->centre_cos(t), s = ws.theta->centre_sin(t);
     float run = -1e30f;
     // Where the floor is not known (hidden at the foot of the wall, block
     // tops, steep bowl sides) it continues at the last known floor height
@@ -709,8 +883,10 @@ void prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
 // step's midpoint (a flat floor halfway through a step was a half-step
 // error: -0.1 % on a 300 mm deep cylinder).
 double wedge_volume(const Workspace &ws, const Params &p, uint32_t t, double R, double z_a,
-                    double z_b, double dth) {
+                    double z_b, double dth, float ray_low) {
   if (!(R > 0)) return 0.0;
+  // Below the lowest floor of the whole ray every ring adds nothing.
+  if (z_b <= double(ray_low)) return 0.0;
   const uint32_t K = ws.cap.ray_steps;
   const double dr = p.integrate_dr_mm;
   auto nk = uint32_t(std::ceil(R / dr));
@@ -738,36 +914,45 @@ Volume integrate(const Workspace &ws, const Model &m, const Params &p, Profile *
   const Geo g = geo_of(ws, m, p);
   const double dth = 2 * kPi / g.T;
   Volume v{};
-  const float *arrays[3] = {ws.wall_val, ws.wall_lo, ws.wall_hi};
+  // The three volumes (R, R bridged low, R bridged high) in one sweep: they
+  // differ only near bridged bins, so a wedge is computed once where the
+  // three radii agree (same radius, same wedge: the sums are those of three
+  // separate sweeps, bit for bit).
   double out[3] = {0, 0, 0};
   double unseen = 0, last_area = 0;
-  for (int which = 0; which < 3; ++which) {
-    const float *val = arrays[which];
-    double vol = 0;
-    for (double z = m.z0_mm; z < m.rim_mm; z += p.integrate_dz_mm) {
-      const double h = std::min(p.integrate_dz_mm, m.rim_mm - z);
-      const double zm = z + 0.5 * h;
-      double step = 0;
-      uint32_t known_bins = 0;
-      const auto zb = uint32_t(std::min<double>(g.Z - 1, std::max(0.0, (zm - g.z0) / g.dz)));
-      for (uint32_t t = 0; t < g.T; ++t) {
-        const double dv = wedge_volume(ws, p, t, radius_at(val, g, t, zm), z, z + h, dth);
-        step += dv;
-        const bool k = known(ws.wall[size_t(zb) * g.T + t], p);
-        known_bins += k;
-        if (which == 0 && !k) unseen += dv;
-      }
-      vol += step;
-      const double area = step / h;
-      if (which == 0 && profile != nullptr && profile->n < profile->cap && zm >= 0) {
-        profile->z_mm[profile->n] = zm;
-        profile->area_mm2[profile->n] = area;
-        profile->seen_share[profile->n] = double(known_bins) / double(g.T);
-        ++profile->n;
-      }
-      if (which == 0) last_area = area;
+  float ray_low[AngleBins::kMaxBins];  // lowest floor along each ray
+  const uint32_t K = ws.cap.ray_steps;
+  for (uint32_t t = 0; t < g.T; ++t) {
+    const float *fl = ws.ray_floor + size_t(t) * K;
+    ray_low[t] = K > 0 ? *std::min_element(fl, fl + K) : 0.0f;
+  }
+  for (double z = m.z0_mm; z < m.rim_mm; z += p.integrate_dz_mm) {
+    const double h = std::min(p.integrate_dz_mm, m.rim_mm - z);
+    const double zm = z + 0.5 * h;
+    double step[3] = {0, 0, 0};
+    uint32_t known_bins = 0;
+    const auto zb = uint32_t(std::min<double>(g.Z - 1, std::max(0.0, (zm - g.z0) / g.dz)));
+    for (uint32_t t = 0; t < g.T; ++t) {
+      const double r0 = radius_at(ws.wall_val, g, t, zm);
+      const double r1 = radius_at(ws.wall_lo, g, t, zm);
+      const double r2 = radius_at(ws.wall_hi, g, t, zm);
+      const double dv = wedge_volume(ws, p, t, r0, z, z + h, dth, ray_low[t]);
+      step[0] += dv;
+      step[1] += r1 == r0 ? dv : wedge_volume(ws, p, t, r1, z, z + h, dth, ray_low[t]);
+      step[2] += r2 == r0 ? dv : wedge_volume(ws, p, t, r2, z, z + h, dth, ray_low[t]);
+      const bool k = known(ws.wall[size_t(zb) * g.T + t], p);
+      known_bins += k;
+      if (!k) unseen += dv;
     }
-    out[which] = vol;
+    for (int w = 0; w < 3; ++w) out[w] += step[w];
+    const double area = step[0] / h;
+    if (profile != nullptr && profile->n < profile->cap && zm >= 0) {
+      profile->z_mm[profile->n] = zm;
+      profile->area_mm2[profile->n] = area;
+      profile->seen_share[profile->n] = double(known_bins) / double(g.T);
+      ++profile->n;
+    }
+    last_area = area;
   }
   v.volume_mm3 = out[0];
   v.lo_mm3 = out[1];
@@ -785,19 +970,21 @@ struct OccCtx {
   Geo g;
   double margin;
   Occupancy *o;
+  ThetaCache cache;  // as the last build() left it
 };
 
 void occupancy_pass(void *c, const Point &q) {
   auto *x = static_cast<OccCtx *>(c);
   const Model &m = *x->m;
+  const size_t idx = x->cache.next++;
   if (q.z >= m.rim_mm || q.z < m.z0_mm) return;
   ++x->o->points;
   if (q.z > m.rim_mm - x->margin) return;
   const double dx = q.x - m.axis.cx(q.z), dy = q.y - m.axis.cy(q.z);
   const double r = std::sqrt(dx * dx + dy * dy);
-  const uint32_t t = angle_bin(dx, dy, x->g.T);
+  const uint32_t t = theta_of(x->cache, idx, dx, dy, *x->ws->theta);
   if (r > radius_at(x->ws->wall_val, x->g, t, q.z) - x->margin) return;
-  const double fx = (q.x - x->g.fx0) / x->g.cell, fy = (q.y - x->g.fy0) / x->g.cell;
+  const double fx = x->g.per_cell.of(q.x - x->g.fx0), fy = x->g.per_cell.of(q.y - x->g.fy0);
   double floor_z = 0.0;
   if (fx >= 0 && fy >= 0 && fx < x->g.C && fy < x->g.C) {
     const FloorCell &f = x->ws->floor[size_t(uint32_t(fy)) * x->g.C + uint32_t(fx)];
@@ -812,8 +999,8 @@ void occupancy_pass(void *c, const Point &q) {
 Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
                     const Params &p, double margin_mm) {
   Occupancy o{0, 0, 0, 0};
-  OccCtx c{&ws, &m, geo_of(ws, m, p), margin_mm, &o};
-  src.visit(src.ctx, occupancy_pass, &c);
+  OccCtx c{&ws, &m, geo_of(ws, m, p), margin_mm, &o, theta_cache(ws)};
+  src.visit(src.ctx, each<occupancy_pass>, &c);
   const size_t bins = size_t(ws.cap.theta_bins) * m.z_bins;
   for (size_t i = 0; i < bins; ++i) {
     if (ws.wall[i].state == kSeen) o.max_radius_mm = std::max(o.max_radius_mm, double(ws.wall_val[i]));

@@ -24,13 +24,18 @@
 // intersection is the pit.
 //
 // Memory: everything lives in caller memory sized by bytes_needed(); the
-// model is built at finish from the stored points, in three passes over
-// them, with no allocation.
+// model is built at finish from the stored points, in five passes over
+// them (centroid, axis slabs, two grid passes, floor share), with no
+// allocation. Speed (issue 12, docs/method.md): theta bins without atan2
+// (angle_bins.h), each point's bin kept from the first grid pass for the
+// later ones (Workspace::point_theta), points in batches.
 #ifndef PV_SURFACE_SURFACE_MODEL_H
 #define PV_SURFACE_SURFACE_MODEL_H
 
 #include <cstddef>
 #include <cstdint>
+
+#include "surface/angle_bins.h"
 
 namespace pv::surface {
 
@@ -71,23 +76,26 @@ struct Point {            // levelled, millimetres (bottom plane at z = 0)
 };
 
 // The source of levelled points, read once per pass: visit(ctx, fn, fn_ctx)
-// calls fn(fn_ctx, p) for every stored point, always in the same order.
-using PointFn = void (*)(void *fn_ctx, const Point &p);
+// calls fn(fn_ctx, pts, n) with every stored point, in batches (a pass's
+// loop over a batch inlines its per-point work: one indirect call per
+// batch, not per point), always in the same order.
+using PointFn = void (*)(void *fn_ctx, const Point *pts, size_t n);
 struct PointSource {
   void *ctx;
   void (*visit)(void *ctx, PointFn fn, void *fn_ctx);
 };
 
+// What every point reads (top1, band) shares the first cache line.
 struct WallBin {
   float top1, top2;       // two largest radii
+  float band;             // surface band of this bin (wider on a slope)
   uint32_t n_all;         // points in the bin
   uint32_t n;             // surface points (within band of top2)
   uint32_t n_floor;       // of those, on the floor map's floor
-  double sr, sz, szz, srz;  // sums over the surface points (z from the bin centre)
-  double sa, saa, sra, sza;  // the same for the angle from the bin centre, rad
-  float band;             // surface band of this bin (wider on a slope)
   uint8_t state;          // see BinState
   uint8_t gap;            // bridged: length of the bridge, bins (255: long)
+  double sr, sz, szz, srz;  // sums over the surface points (z from the bin centre)
+  double sa, saa, sra, sza;  // the same for the angle from the bin centre, rad
 };
 
 enum BinState : uint8_t {
@@ -116,6 +124,14 @@ struct Workspace {
   uint32_t *fill_idx;     // theta_bins * z_bins (bridging rounds)
   float *fill_val;        // max(theta_bins * z_bins * 3, cells * cells)
   uint32_t *queue;        // cells * cells (floor flood)
+  // Optional, the caller's: one byte per point of the PointSource, where
+  // build() keeps each point's theta bin for its later passes and for
+  // occupancy() (which must then visit the same points in the same order).
+  // Points past point_theta_cap, or no cache (null), are binned again.
+  AngleBins *theta;        // theta_bins around the axis (set up by build)
+  AngleBins *sectors;      // kAxisSectors around the centroid, for the axis
+  uint8_t *point_theta = nullptr;
+  size_t point_theta_cap = 0;
 };
 
 constexpr uint32_t kAxisSectors = 36;

@@ -1,4 +1,4 @@
-// push() must never allocate. This program replaces malloc & co. and the
+// push(), estimate() and finish() must never allocate. This program replaces malloc & co. and the
 // global operator new with counting versions (glibc's __libc_* underneath)
 // and streams 300k points through a session while counting.
 #include <atomic>
@@ -74,7 +74,39 @@ void push_never_allocates(void **) {
   assert_int_equal(st, PV_OK);
   assert_int_equal(g_allocations.load(), 0);
   pv_result_t r;
-  assert_int_equal(pv_session_finish(t.s, &r), PV_OK);  // finish may use the kd-tree scratch
+  assert_int_equal(pv_session_finish(t.s, &r), PV_OK);
+}
+
+void use_paper(pv_config_t *c) { c->method = PV_METHOD_PAPER; }
+
+// estimate() and finish() of the default method (surface) and of paper work
+// in the block alone (issue 12): zero allocations, however often estimate()
+// runs while the scan goes on.
+void estimate_and_finish_never_allocate(void **) {
+  pv::synth::PitSpec spec;
+  const std::vector<pv_point_t> pts = scan_points(spec, 300000);
+  for (int paper = 0; paper < 2; ++paper) {
+    TestSession t(paper ? use_paper : nullptr);  // else the default, surface
+    pv_result_t r;
+    const size_t half = pts.size() / 2;
+    assert_int_equal(pv_session_push(t.s, pts.data(), half), PV_OK);
+    g_allocations = 0;
+    g_counting = true;
+    const pv_status_t e1 = pv_session_estimate(t.s, &r);
+    const pv_status_t e2 = pv_session_estimate(t.s, &r);
+    g_counting = false;
+    assert_int_equal(e1, PV_OK);
+    assert_int_equal(e2, PV_OK);
+    assert_int_equal(pv_session_push(t.s, pts.data() + half, pts.size() - half), PV_OK);
+    g_counting = true;
+    const pv_status_t e3 = pv_session_estimate(t.s, &r);
+    const pv_status_t f = pv_session_finish(t.s, &r);
+    g_counting = false;
+    assert_int_equal(e3, PV_OK);
+    assert_int_equal(f, PV_OK);
+    assert_true(r.volume_cm3 > 0);
+    assert_int_equal(g_allocations.load(), 0);
+  }
 }
 
 }  // namespace
@@ -83,6 +115,7 @@ int main() {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(the_counter_sees_allocations),
       cmocka_unit_test(push_never_allocates),
+      cmocka_unit_test(estimate_and_finish_never_allocate),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

@@ -2,6 +2,7 @@
 // from points: cylinder, cone frustum, elliptical cylinder, a bowl (sphere
 // cap), a cylinder with multipath inside, and one with a band of wall
 // removed (bridged, inside the interval).
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <vector>
@@ -72,7 +73,13 @@ std::vector<Point> points_of(const Pit &p, uint64_t seed) {
 }
 
 void visit(void *ctx, pv::surface::PointFn fn, void *fn_ctx) {
-  for (const Point &q : *static_cast<std::vector<Point> *>(ctx)) fn(fn_ctx, q);
+  const auto &v = *static_cast<std::vector<Point> *>(ctx);
+  // Uneven batches: a pass must not depend on where a batch ends.
+  for (size_t i = 0; i < v.size();) {
+    const size_t n = std::min<size_t>(1 + i % 300, v.size() - i);
+    fn(fn_ctx, v.data() + i, n);
+    i += n;
+  }
 }
 
 struct Measured {
