@@ -111,19 +111,25 @@ bool plausible_pit(const surface::Occupancy &occ, double rim_area_mm2, double ma
 
 }  // namespace
 
-pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
-                            pv_result_t *out) {
-  const surface::Params p;
-  Levelled lv{s, &t, s->estimating ? kEstimateStride : 1u};
+surface::Status build_surface_model(pv_session *s, const levelling::Transform &t, double rim_mm,
+                                    uint32_t stride, const surface::Params &p, surface::Model *m) {
+  Levelled lv{s, &t, stride};
   const surface::PointSource src{&lv, visit_points};
-  surface::Model m;
   const double z_bottom = s->grid.z_of(0) - 0.5 * s->grid.layer_mm;
   // The paper's finish-time order (a slot id per stored point) is not used
   // by this method: its bytes keep each point's theta bin between the
   // model's passes (surface::Workspace::point_theta).
   s->surf.point_theta = reinterpret_cast<uint8_t *>(s->order);
   s->surf.point_theta_cap = size_t(s->grid.layers) * s->cfg.points_per_layer * sizeof(uint32_t);
-  const surface::Status st = surface::build(src, z_bottom, rim_mm, p, s->surf, &m);
+  return surface::build(src, z_bottom, rim_mm, p, s->surf, m);
+}
+
+pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
+                            pv_result_t *out) {
+  const surface::Params p;
+  const uint32_t stride = s->estimating ? kEstimateStride : 1u;
+  surface::Model m;
+  const surface::Status st = build_surface_model(s, t, rim_mm, stride, p, &m);
   if (st == surface::Status::TooFewPoints) {
     out->status = PV_ERR_TOO_FEW_POINTS;
     return out->status;
@@ -149,7 +155,7 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   // kOccupancyStride-th point gives it (corpus at most 6.5 %, refusals from
   // 26 %, threshold 15 %) at a fraction of a full pass. Its points are not
   // the model's, so the theta bins are computed afresh (no cache).
-  Levelled lv_occ{s, &t, lv.stride * kOccupancyStride};
+  Levelled lv_occ{s, &t, stride * kOccupancyStride};
   const surface::PointSource src_occ{&lv_occ, visit_points};
   s->surf.point_theta = nullptr;
   s->surf.point_theta_cap = 0;

@@ -18,29 +18,6 @@ namespace pv::session {
 
 namespace {
 
-struct Levelled {
-  const pv_session *s;
-  const levelling::Transform *t;
-};
-
-// As measure_surface.cpp: the layer bins, then the floor store.
-void visit_bins(const binning::LayerBins &bins, const levelling::Transform &t,
-                surface::PointFn fn, void *fn_ctx) {
-  for (uint32_t b = 0; b < bins.layers(); ++b) {
-    const P3 *pts = bins.points(b);
-    for (uint32_t i = 0; i < bins.count(b); ++i) {
-      const Eigen::Vector3d v = t.apply(pts[i]);
-      fn(fn_ctx, surface::Point{v.x(), v.y(), v.z()});
-    }
-  }
-}
-
-void visit_points(void *ctx, surface::PointFn fn, void *fn_ctx) {
-  const auto *lv = static_cast<const Levelled *>(ctx);
-  visit_bins(lv->s->bins, *lv->t, fn, fn_ctx);
-  visit_bins(lv->s->floor_bins, *lv->t, fn, fn_ctx);
-}
-
 uint8_t public_state(const surface::WallBin &b, const surface::Params &p) {
   switch (b.state) {
     case surface::kSeen: return PV_WALL_SEEN;
@@ -62,11 +39,8 @@ pv_status_t query(pv_session *s, pv_wall_grid_t *grid, float *radius_mm, uint8_t
     t.t(r) = tf.translation_mm[r];
   }
   const surface::Params p;
-  Levelled lv{s, &t};
-  const surface::PointSource src{&lv, visit_points};
   surface::Model m;
-  const double z_bottom = s->grid.z_of(0) - 0.5 * s->grid.layer_mm;  // as measure_surface()
-  const surface::Status bs = surface::build(src, z_bottom, tf.rim_mm, p, s->surf, &m);
+  const surface::Status bs = build_surface_model(s, t, tf.rim_mm, 1, p, &m);  // as finish()
   if (bs == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;
   if (bs != surface::Status::Ok) return PV_ERR_TOO_FEW_LAYERS;
   grid->axis_x_mm = m.axis.cx0;

@@ -161,6 +161,11 @@ double level_for_surface(pv_session *s, levelling::Transform *t);
 // the rim and the bottom of the grid to the result (measure_surface.cpp).
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
                             pv_result_t *out);
+// The surface model of the stored points levelled by t, in s->surf: the
+// build step of measure_surface(), shared with the wall-grid query so that
+// both see the same points in the same order (every stride-th of a bin).
+surface::Status build_surface_model(pv_session *s, const levelling::Transform &t, double rim_mm,
+                                    uint32_t stride, const surface::Params &p, surface::Model *m);
 
 }  // namespace pv::session
 
