@@ -77,12 +77,12 @@ void widest_unseen_band(const pv_result_t &r, double rim_mm, double *from, doubl
 }
 
 bool plausible_pit(const surface::Occupancy &occ, double rim_area_mm2, double max_section_mm2,
-                   double tilt_deg, double max_tilt_deg) {
+                   double tilt_deg, double max_tilt_deg, double max_radius_mm) {
   if (occ.points == 0) return false;
   if (double(occ.inside) > kMaxInsideShare * double(occ.points)) return false;
   if (!(rim_area_mm2 >= kMinMouthRatio * max_section_mm2)) return false;
   // The wall reaches the edge of the grids: wider than the capacity.
-  if (occ.max_radius_mm > kSurfaceMaxRadiusMm - 5.0) return false;
+  if (occ.max_radius_mm > max_radius_mm - 5.0) return false;
   return tilt_deg <= max_tilt_deg;
 }
 
@@ -90,7 +90,7 @@ bool plausible_pit(const surface::Occupancy &occ, double rim_area_mm2, double ma
 
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
                             pv_result_t *out) {
-  const surface::Params p;
+  const surface::Params p = surface_params(s->cfg);
   Levelled lv{s, &t};
   const surface::PointSource src{&lv, visit_points};
   surface::Model m;
@@ -119,7 +119,7 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   for (size_t i = 0; i < prof.n; ++i) max_section = std::max(max_section, double(prof.area_mm2[i]));
   const surface::Occupancy occ = surface::occupancy(src, s->surf, m, p, kInsideMarginMm);
   if (!plausible_pit(occ, v.rim_area_mm2, max_section, out->tilt_deg,
-                     double(s->cfg.max_opening_tilt_deg))) {
+                     double(s->cfg.max_opening_tilt_deg), double(s->cfg.surface_max_radius_mm))) {
     out->status = PV_ERR_NOT_A_PIT;
     return out->status;
   }
