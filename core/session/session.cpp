@@ -122,7 +122,9 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->lv.c = cv.take<Eigen::Vector3d>(k);
   o->lv.v = cv.take<double>(k);
   o->warmup = cv.take<P3>(c.warmup_points);
-  o->order = cv.take<uint32_t>(size_t(layers) * c.points_per_layer);
+  o->order = c.method == PV_METHOD_SURFACE
+                 ? nullptr
+                 : cv.take<uint32_t>(size_t(layers) * c.points_per_layer);
   o->layer_pts = cv.take<XY>(work);
   const size_t thin_bytes = thinning::workspace_bytes(work);
   void *thin_mem = cv.take<unsigned char>(thin_bytes);
