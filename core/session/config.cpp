@@ -58,8 +58,8 @@ extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **f
   if (cfg->method != PV_METHOD_PAPER && cfg->method != PV_METHOD_POLAR &&
       cfg->method != PV_METHOD_SURFACE) bad = "method";
   else if (cfg->max_layers < 64 || cfg->max_layers > 65536) bad = "max_layers";
-  else if (cfg->points_per_layer < 64 || cfg->points_per_layer > (1u << 20)) bad = "points_per_layer";
-  else if (uint64_t(cfg->max_layers) * cfg->points_per_layer > kMaxPointSlots) bad = "points_per_layer";
+  else if (cfg->points_per_layer < 64 || cfg->points_per_layer > (1u << 20) ||
+           uint64_t(cfg->max_layers) * cfg->points_per_layer > kMaxPointSlots) bad = "points_per_layer";
   else if (cfg->level_sample_points < 256 || cfg->level_sample_points > (1u << 20)) bad = "level_sample_points";
   else if (cfg->warmup_points < 256 || cfg->warmup_points > (1u << 24)) bad = "warmup_points";
   else if (!in_range(cfg->layer_mm, 0.1f, 2.0f)) bad = "layer_mm";
