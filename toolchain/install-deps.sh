@@ -3,7 +3,7 @@
 # that are missing, so it is cheap to run before every build (idempotent).
 # Usage: toolchain/install-deps.sh [--cross] [--peers] [--browser] [extra-package ...]
 #   --cross  also the board (aarch64) and MCU (Cortex-M7) toolchains and
-#            emulators, cppcheck, and the arm64 cmocka (docs/targets.md).
+#            emulators, cppcheck, clang-tidy and the arm64 cmocka (docs/targets.md).
 #   --peers  also the peer programs of the accuracy report (CloudCompare,
 #            about 200 MB; only the `peers` CTest label needs it).
 #   --browser  also headless Chromium (about 360 MB), which the `report`
@@ -44,6 +44,7 @@ if [ $cross -eq 1 ]; then
     gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
     qemu-system-arm                          # MCU build, runs on mps2-an500
     cppcheck
+    clang-tidy   # toolchain/run-clang-tidy.sh (by hand, not in CI: docs/targets.md)
     # The board's unit tests link the arm64 cmocka (multiarch). Only this
     # one arm64 -dev package: libusb-1.0-0-dev:arm64 and umockdev's would
     # pull upgrades of amd64 systemd/udev, so the board has no USB driver

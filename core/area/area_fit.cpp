@@ -30,8 +30,8 @@ struct Bounds {
 // Extremes of the layer; false on non-finite input (a NaN would otherwise
 // poison every comparison silently).
 bool layer_bounds(const XY *pts, size_t n, Bounds *b) {
-  b->x_min = b->y_min = INFINITY;
-  b->x_max = b->y_max = -INFINITY;
+  b->x_min = b->y_min = HUGE_VAL;  // double infinity (INFINITY is a float)
+  b->x_max = b->y_max = -HUGE_VAL;
   if (n > 0) b->left = b->right = pts[0];
   for (size_t i = 0; i < n; ++i) {
     const double x = pts[i].x_mm, y = pts[i].y_mm;

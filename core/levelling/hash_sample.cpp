@@ -9,7 +9,8 @@ namespace pv::levelling {
 // different points (astronomically rare) still sort the same way every time.
 static bool entry_less(const SampleEntry &a, const SampleEntry &b) {
   if (a.hash != b.hash) return a.hash < b.hash;
-  return std::memcmp(&a.p, &b.p, sizeof a.p) < 0;
+  // The bits, not the values: -0 and +0 (and NaN payloads) must order too.
+  return std::memcmp(&a.p, &b.p, sizeof a.p) < 0;  // NOLINT(bugprone-suspicious-memory-comparison)
 }
 
 void HashSample::init(SampleEntry *storage, uint32_t capacity) {

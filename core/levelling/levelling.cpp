@@ -13,7 +13,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 double quantile(double *v, size_t n, double q) {
-  const size_t k = std::min(n - 1, size_t(q * double(n - 1) + 0.5));
+  // Round half up of a non-negative index: the cast is exact here, and no libm call.
+  const size_t k = std::min(n - 1, size_t(q * double(n - 1) + 0.5));  // NOLINT(bugprone-incorrect-roundings)
   std::nth_element(v, v + k, v + n);
   return v[k];
 }

@@ -32,6 +32,11 @@ extern "C" void pv_config_default(pv_config_t *cfg) {
   cfg->max_unseen_share = 0.30f;   // docs/method.md (method surface)
   cfg->max_opening_tilt_deg = 90.0f;  // docs/reliability.md (plausibility)
   cfg->duplicate_filter = 1;
+  cfg->surface_floor_points = 65536;
+  cfg->surface_theta_bins = 180;
+  cfg->surface_wall_dz_mm = 2.0f;
+  cfg->surface_cell_mm = 2.0f;
+  cfg->surface_max_radius_mm = 320.0f;
 }
 
 namespace {
@@ -53,8 +58,8 @@ extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **f
   if (cfg->method != PV_METHOD_PAPER && cfg->method != PV_METHOD_POLAR &&
       cfg->method != PV_METHOD_SURFACE) bad = "method";
   else if (cfg->max_layers < 64 || cfg->max_layers > 65536) bad = "max_layers";
-  else if (cfg->points_per_layer < 64 || cfg->points_per_layer > (1u << 20)) bad = "points_per_layer";
-  else if (uint64_t(cfg->max_layers) * cfg->points_per_layer > kMaxPointSlots) bad = "points_per_layer";
+  else if (cfg->points_per_layer < 64 || cfg->points_per_layer > (1u << 20) ||
+           uint64_t(cfg->max_layers) * cfg->points_per_layer > kMaxPointSlots) bad = "points_per_layer";
   else if (cfg->level_sample_points < 256 || cfg->level_sample_points > (1u << 20)) bad = "level_sample_points";
   else if (cfg->warmup_points < 256 || cfg->warmup_points > (1u << 24)) bad = "warmup_points";
   else if (!in_range(cfg->layer_mm, 0.1f, 2.0f)) bad = "layer_mm";
@@ -76,6 +81,11 @@ extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **f
   else if (!in_range(cfg->max_unseen_share, 0.0f, 1.0f)) bad = "max_unseen_share";
   else if (!in_range(cfg->max_opening_tilt_deg, 0.0f, 180.0f)) bad = "max_opening_tilt_deg";
   else if (cfg->duplicate_filter > 1) bad = "duplicate_filter";
+  else if (cfg->surface_floor_points < 256 || cfg->surface_floor_points > (1u << 24)) bad = "surface_floor_points";
+  else if (cfg->surface_theta_bins < 36 || cfg->surface_theta_bins > 360) bad = "surface_theta_bins";
+  else if (!in_range(cfg->surface_wall_dz_mm, 0.5f, 20.0f)) bad = "surface_wall_dz_mm";
+  else if (!in_range(cfg->surface_cell_mm, 0.5f, 20.0f)) bad = "surface_cell_mm";
+  else if (!in_range(cfg->surface_max_radius_mm, 50.0f, 2000.0f)) bad = "surface_max_radius_mm";
   if (field_out != nullptr) *field_out = bad;
   return bad == nullptr ? PV_OK : PV_ERR_INVALID_CONFIG;
 }

@@ -66,8 +66,9 @@ uint64_t assign_layers(pv_session *s, const levelling::Transform &t) {
     }
   }
   for (uint32_t j = 0; j < L; ++j) s->layer_start[j + 1] += s->layer_start[j];
-  // Method surface reads the bins directly: it needs the counts, not the order.
-  if (s->cfg.method == PV_METHOD_SURFACE) return outside;
+  // Method surface reads the points from the bins, not layer by layer: it
+  // has no order array (session.cpp, layout()).
+  if (s->order == nullptr) return outside;
   // Second pass places slot ids; layer_start[j] advances to the end of j,
   // so shift back afterwards.
   for (uint32_t b = 0; b < L; ++b) {

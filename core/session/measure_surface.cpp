@@ -100,12 +100,12 @@ void widest_unseen_band(const pv_result_t &r, double rim_mm, double *from, doubl
 }
 
 bool plausible_pit(const surface::Occupancy &occ, double rim_area_mm2, double max_section_mm2,
-                   double tilt_deg, double max_tilt_deg) {
+                   double tilt_deg, double max_tilt_deg, double max_radius_mm) {
   if (occ.points == 0) return false;
   if (double(occ.inside) > kMaxInsideShare * double(occ.points)) return false;
   if (!(rim_area_mm2 >= kMinMouthRatio * max_section_mm2)) return false;
   // The wall reaches the edge of the grids: wider than the capacity.
-  if (occ.max_radius_mm > kSurfaceMaxRadiusMm - 5.0) return false;
+  if (occ.max_radius_mm > max_radius_mm - 5.0) return false;
   return tilt_deg <= max_tilt_deg;
 }
 
@@ -116,17 +116,16 @@ surface::Status build_surface_model(pv_session *s, const levelling::Transform &t
   Levelled lv{s, &t, stride};
   const surface::PointSource src{&lv, visit_points};
   const double z_bottom = s->grid.z_of(0) - 0.5 * s->grid.layer_mm;
-  // The paper's finish-time order (a slot id per stored point) is not used
-  // by this method: its bytes keep each point's theta bin between the
-  // model's passes (surface::Workspace::point_theta).
-  s->surf.point_theta = reinterpret_cast<uint8_t *>(s->order);
-  s->surf.point_theta_cap = size_t(s->grid.layers) * s->cfg.points_per_layer * sizeof(uint32_t);
+  // Each point's theta bin, kept between the model's passes
+  // (surface::Workspace::point_theta; session.cpp, layout()).
+  s->surf.point_theta = s->theta_cache;
+  s->surf.point_theta_cap = s->theta_cache_cap;
   return surface::build(src, z_bottom, rim_mm, p, s->surf, m);
 }
 
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
                             pv_result_t *out) {
-  const surface::Params p;
+  const surface::Params p = surface_params(s->cfg);
   const uint32_t stride = s->estimating ? kEstimateStride : 1u;
   surface::Model m;
   const surface::Status st = build_surface_model(s, t, rim_mm, stride, p, &m);
@@ -161,7 +160,7 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   s->surf.point_theta_cap = 0;
   const surface::Occupancy occ = surface::occupancy(src_occ, s->surf, m, p, kInsideMarginMm);
   if (!plausible_pit(occ, v.rim_area_mm2, max_section, out->tilt_deg,
-                     double(s->cfg.max_opening_tilt_deg))) {
+                     double(s->cfg.max_opening_tilt_deg), double(s->cfg.surface_max_radius_mm))) {
     out->status = PV_ERR_NOT_A_PIT;
     return out->status;
   }

@@ -38,7 +38,7 @@ pv_status_t query(pv_session *s, pv_wall_grid_t *grid, float *radius_mm, uint8_t
     for (int c = 0; c < 3; ++c) t.R(r, c) = tf.rotation[3 * r + c];
     t.t(r) = tf.translation_mm[r];
   }
-  const surface::Params p;
+  const surface::Params p = surface_params(s->cfg);
   surface::Model m;
   const surface::Status bs = build_surface_model(s, t, tf.rim_mm, 1, p, &m);  // as finish()
   if (bs == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;

@@ -82,6 +82,10 @@ void establish_transform(pv_session *s) {
   s->warmup_count = 0;
 }
 
+// Stored points from which the surface model keeps each point's theta bin
+// between its passes even where that grows the block.
+constexpr size_t kThetaCacheMinPoints = 100000;
+
 size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   Carver cv(block);
   const uint32_t layers = grid_layers(c);
@@ -90,7 +94,31 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   pv_session tmp{};
   pv_session *o = s ? s : &tmp;
 
+  // What lives across calls: the sample, the bins, the per-layer results.
   o->sample.init(cv.take<levelling::SampleEntry>(k), k);
+  if (c.duplicate_filter != 0) {
+    void *dup_mem = cv.take<uint64_t>(binning::DuplicateFilter::bytes_needed() / sizeof(uint64_t));
+    if (block != nullptr) o->duplicates.init(dup_mem);
+  }
+  void *bins_mem = cv.take<unsigned char>(binning::LayerBins::bytes_needed(layers, c.points_per_layer));
+  if (block != nullptr) o->bins.init(bins_mem, layers, c.points_per_layer);
+  o->layer_start = cv.take<uint32_t>(layers + 1);
+  o->layer_weight = cv.take<double>(layers);
+  o->seq_z = cv.take<double>(layers);
+  o->seq_area = cv.take<double>(layers);
+  o->seq_keep = cv.take<uint8_t>(layers);
+  o->seq_scratch_cap = sequence_scratch_doubles(layers);
+  o->seq_scratch = cv.take<double>(o->seq_scratch_cap);
+  o->layer_info = cv.take<pv_layer_info_t>(layers);
+  if (c.method == PV_METHOD_SURFACE) {
+    void *floor_mem =
+        cv.take<unsigned char>(binning::LayerBins::bytes_needed(1, c.surface_floor_points));
+    if (block != nullptr) o->floor_bins.init(floor_mem, 1, c.surface_floor_points);
+  }
+
+  // Scratch: the levelling's, the warm-up buffer (empty once a transform
+  // exists, which measure() makes sure of first) and the per-layer stages'.
+  const size_t scratch_at = cv.used();
   o->sample_sorted = cv.take<levelling::SampleEntry>(k);
   o->sample_points = cv.take<P3>(k);
   o->lv.a = cv.take<Eigen::Vector3d>(k);
@@ -98,17 +126,9 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->lv.c = cv.take<Eigen::Vector3d>(k);
   o->lv.v = cv.take<double>(k);
   o->warmup = cv.take<P3>(c.warmup_points);
-  if (c.duplicate_filter != 0) {
-    void *dup_mem = cv.take<uint64_t>(binning::DuplicateFilter::bytes_needed() / sizeof(uint64_t));
-    if (block != nullptr) o->duplicates.init(dup_mem);
-  }
-
-  void *bins_mem = cv.take<unsigned char>(binning::LayerBins::bytes_needed(layers, c.points_per_layer));
-  if (block != nullptr) o->bins.init(bins_mem, layers, c.points_per_layer);
-
-  o->order = cv.take<uint32_t>(size_t(layers) * c.points_per_layer);
-  o->layer_start = cv.take<uint32_t>(layers + 1);
-  o->layer_weight = cv.take<double>(layers);
+  o->order = c.method == PV_METHOD_SURFACE
+                 ? nullptr
+                 : cv.take<uint32_t>(size_t(layers) * c.points_per_layer);
   o->layer_pts = cv.take<XY>(work);
   const size_t thin_bytes = thinning::workspace_bytes(work);
   void *thin_mem = cv.take<unsigned char>(thin_bytes);
@@ -119,19 +139,28 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->area_scratch = cv.take<XY>(o->area_scratch_cap);
   o->polar_scratch_cap = area::polar_scratch_needed(work);
   o->polar_scratch = cv.take<double>(o->polar_scratch_cap);
-  o->seq_z = cv.take<double>(layers);
-  o->seq_area = cv.take<double>(layers);
-  o->seq_keep = cv.take<uint8_t>(layers);
-  o->seq_scratch_cap = sequence_scratch_doubles(layers);
-  o->seq_scratch = cv.take<double>(o->seq_scratch_cap);
-  o->layer_info = cv.take<pv_layer_info_t>(layers);
+  o->theta_cache = nullptr;
+  o->theta_cache_cap = 0;
   if (c.method == PV_METHOD_SURFACE) {
-    void *floor_mem =
-        cv.take<unsigned char>(binning::LayerBins::bytes_needed(1, kFloorStorePoints));
-    if (block != nullptr) o->floor_bins.init(floor_mem, 1, kFloorStorePoints);
+    // The surface model overlays that scratch: it is built in measure_surface(),
+    // after the levelling, the rim and the layer order are done with it, and
+    // is not read after it returns. Its own scratch is the larger part.
+    const size_t scratch_end = cv.used();
+    cv.rewind(scratch_at);
     const surface::Capacity sc = surface_capacity(c);
     void *mem = cv.take<unsigned char>(surface::bytes_needed(sc));
     if (block != nullptr) surface::make_workspace(mem, sc, &o->surf);
+    // One byte per stored point: its theta bin, computed by the first pass
+    // over the points and read by the others (issue 12). A speed-up for
+    // configurations that store many points (the default: 1.4 MB, 4.5 % of
+    // its block); a small one (the MCU profile, whose every byte counts)
+    // bins each point again in each pass, unless the scratch has room.
+    const size_t cache = size_t(layers) * c.points_per_layer + c.surface_floor_points;
+    if (cv.used() + cache + 64 <= scratch_end || cache >= kThetaCacheMinPoints) {
+      o->theta_cache_cap = cache;
+      o->theta_cache = cv.take<uint8_t>(cache);
+    }
+    if (cv.used() < scratch_end) cv.rewind(scratch_end);
   }
   return cv.used();
 }

@@ -35,6 +35,9 @@ class Carver {
     return p;
   }
   size_t used() const { return offset_; }
+  // Back to an earlier offset: the regions after it are overlaid by what is
+  // taken next (phases that never run at the same time).
+  void rewind(size_t offset) { offset_ = offset; }
 
  private:
   unsigned char *base_;
@@ -60,16 +63,26 @@ inline uint32_t grid_layers(const pv_config_t &c) {
 // square centimetre while the multipath above it is kept whole (measured:
 // 2 mm floor cells with three points were rare, and multipath made false
 // floor). Its points (provisional height below kFloorStoreTopMm) go to one
-// larger store instead of their layer bins.
-constexpr uint32_t kFloorStorePoints = 65536;
+// larger store instead of their layer bins: pv_config_t.surface_floor_points
+// (65,536 by default; a full store thins itself like a layer bin).
 constexpr double kFloorStoreTopMm = 20.0;
 
 // The surface model's grids (method surface only): the whole depth range,
-// and pits up to this radius around their axis.
-constexpr double kSurfaceMaxRadiusMm = 320.0;
+// and pits up to pv_config_t.surface_max_radius_mm around their axis; bin
+// sizes from the configuration too (the MCU profile's are coarser).
+inline surface::Params surface_params(const pv_config_t &c) {
+  surface::Params p;
+  p.theta_bins = c.surface_theta_bins;
+  p.dz_mm = double(c.surface_wall_dz_mm);
+  p.cell_mm = double(c.surface_cell_mm);
+  // Rings of the volume integration: half a floor cell (1 mm by default),
+  // finer would only resample the same cells; sizes the ray arrays.
+  p.integrate_dr_mm = 0.5 * p.cell_mm;
+  return p;
+}
 inline surface::Capacity surface_capacity(const pv_config_t &c) {
-  return surface::capacity_for(surface::Params{}, double(grid_layers(c)) * c.layer_mm,
-                               kSurfaceMaxRadiusMm);
+  return surface::capacity_for(surface_params(c), double(grid_layers(c)) * c.layer_mm,
+                               double(c.surface_max_radius_mm));
 }
 
 inline size_t area_scratch_points(size_t work) { return area::scratch_needed(work); }
@@ -136,6 +149,8 @@ struct pv_session {
   pv_layer_info_t *layer_info;  // layers
   uint32_t layer_info_count;
   pv::surface::Workspace surf;  // method surface only (else empty)
+  uint8_t *theta_cache;   // method surface: each stored point's theta bin between passes
+  size_t theta_cache_cap; // entries (stored points: bins and floor store)
   bool estimating;  // measure() runs for pv_session_estimate (a live figure)
 };
 

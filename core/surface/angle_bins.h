@@ -16,6 +16,7 @@
 #ifndef PV_SURFACE_ANGLE_BINS_H
 #define PV_SURFACE_ANGLE_BINS_H
 
+#include <cstddef>
 #include <cstdint>
 
 namespace pv::surface {
@@ -36,20 +37,25 @@ inline double diamond(double x, double y) {
   return base + r * double(1 - 2 * (left ^ down));
 }
 
+// The tables live in caller memory sized by bytes_for(n) (the surface
+// workspace): an MCU with 36 bins carries 36 bins' tables, not 360.
 class AngleBins {
  public:
   static constexpr uint32_t kMaxBins = 360;
 
-  // n equal bins from angle 0, n <= kMaxBins.
-  void init(uint32_t n);
+  // Bytes of the tables for n bins (8-byte aligned).
+  static size_t bytes_for(uint32_t n);
+  // n equal bins from angle 0, n <= kMaxBins; memory: bytes_for(n) bytes,
+  // 8-byte aligned, kept for the object's life.
+  void init(uint32_t n, void *memory);
   uint32_t bins() const { return n_; }
 
   uint32_t bin(double dx, double dy) const {
     const double d = diamond(dx, dy);
-    auto j = uint32_t(d * kCoarsePerUnit);
-    if (j >= kCoarse) j = kCoarse - 1;
-    // A coarse cell (1/256) is narrower than any bin (at least 1/180 of a
-    // turn at kMaxBins = 360), so it meets at most two bins: one step.
+    auto j = uint32_t(d * double(per_unit_));
+    if (j >= 4 * per_unit_) j = 4 * per_unit_ - 1;
+    // A coarse cell is narrower than any bin (coarse_per_unit()), so it
+    // meets at most two bins: one step.
     uint32_t t = start_[j];
     t += d >= bound_[t + 1] ? 1 : 0;
     return t;
@@ -74,12 +80,13 @@ class AngleBins {
   }
 
  private:
-  static constexpr uint32_t kCoarsePerUnit = 256;  // a bin of 1 deg or more spans several
-  static constexpr uint32_t kCoarse = 4 * kCoarsePerUnit;
-  uint32_t n_ = 0;
-  double bound_[kMaxBins + 1];  // bound_[n] is +infinity
-  double cc_[kMaxBins], cs_[kMaxBins];
-  uint16_t start_[kCoarse];
+  // Coarse cells per unit of diamond angle: at least 2.8 per bin on average
+  // (256 for 360 bins), so a cell is narrower than the narrowest bin.
+  static uint32_t coarse_per_unit(uint32_t n) { return n > 90 ? 256u : 64u; }
+  uint32_t n_ = 0, per_unit_ = 0;
+  const double *bound_ = nullptr;  // n + 1 edges, bound_[n] is +infinity
+  const double *cc_ = nullptr, *cs_ = nullptr;  // n centre directions
+  const uint16_t *start_ = nullptr;  // 4 * per_unit_ coarse cells
 };
 
 }  // namespace pv::surface

@@ -45,6 +45,8 @@ size_t layout(const Capacity &c, unsigned char *base, Workspace *ws) {
   w.queue = take<uint32_t>(base, &off, cells);
   w.theta = take<AngleBins>(base, &off, 1);
   w.sectors = take<AngleBins>(base, &off, 1);
+  w.theta_tables = take<unsigned char>(base, &off, AngleBins::bytes_for(c.theta_bins));
+  w.sector_tables = take<unsigned char>(base, &off, AngleBins::bytes_for(kAxisSectors));
   if (ws != nullptr) *ws = w;
   return off;
 }
@@ -772,8 +774,8 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   if (!(depth > 4 * p.dz_mm)) return Status::NoWall;
   m->z_bins = std::min<uint32_t>(cap.z_bins, uint32_t(std::ceil(depth / p.dz_mm)));
 
-  ws.theta->init(cap.theta_bins);
-  ws.sectors->init(kAxisSectors);
+  ws.theta->init(cap.theta_bins, ws.theta_tables);
+  ws.sectors->init(kAxisSectors, ws.sector_tables);
   // Axis: the centroid, then slab outlines around it.
   Ctx x{&p, &ws, m, z_bottom_mm, rim_mm, 0, 0, 0};
   src.visit(src.ctx, each<centroid_pass>, &x);

@@ -130,6 +130,7 @@ struct Workspace {
   // Points past point_theta_cap, or no cache (null), are binned again.
   AngleBins *theta;        // theta_bins around the axis (set up by build)
   AngleBins *sectors;      // kAxisSectors around the centroid, for the axis
+  unsigned char *theta_tables, *sector_tables;  // their tables (AngleBins::bytes_for)
   uint8_t *point_theta = nullptr;
   size_t point_theta_cap = 0;
 };

@@ -1,8 +1,8 @@
 // The MCU configuration: capacities small enough that the session block
 // fits in 512 KB (docs/memory.md has the size table, docs/targets.md its
-// accuracy against the default configuration). Only capacities and the
-// layer height change (and the method, see below); every method parameter
-// keeps its default.
+// accuracy against the default configuration). Only capacities, grid sizes
+// and the layer height change; every other method parameter keeps its
+// default.
 #ifndef PV_FIRMWARE_MCU_CONFIG_H
 #define PV_FIRMWARE_MCU_CONFIG_H
 
@@ -14,17 +14,21 @@
 
 static inline void pv_mcu_config(pv_config_t *cfg) {
   pv_config_default(cfg);
-  // The default method's surface model (an 11.8 MB workspace at finish, and
-  // the 786 KB floor store) does not fit yet: the MCU runs the paper's
-  // method until a compact surface summary exists (docs/targets.md).
-  cfg->method = PV_METHOD_PAPER;
-  // The duplicate filter's fixed 1 MiB does not fit either (docs/targets.md).
+  // The default method, surface, with coarser grids and fewer stored points
+  // (measured against the default configuration: docs/targets.md).
+  cfg->method = PV_METHOD_SURFACE;
+  // The duplicate filter's fixed 1 MiB does not fit (docs/targets.md).
   cfg->duplicate_filter = 0;
-  cfg->layer_mm = 2.0f;            // the thickest layer allowed (default 0.5)
-  cfg->max_layers = 176;           // 352 mm of depth range
-  cfg->points_per_layer = 128;     // default 1024
-  cfg->level_sample_points = 512;  // default 8192
-  cfg->warmup_points = 2048;       // default 32768
+  cfg->layer_mm = 2.0f;             // the thickest layer allowed (default 0.5)
+  cfg->max_layers = 200;            // 400 mm of depth range (+40 mm below)
+  cfg->points_per_layer = 64;       // the least allowed (default 1024)
+  cfg->level_sample_points = 2048;  // default 8192; 1024 mislevelled a bowl (+20 %)
+  cfg->warmup_points = 256;         // default 32768
+  cfg->surface_floor_points = 2560; // default 65536
+  cfg->surface_theta_bins = 36;     // 10 deg (default 180: 2 deg)
+  cfg->surface_wall_dz_mm = 12.0f;  // default 2
+  cfg->surface_cell_mm = 12.0f;     // default 2
+  cfg->surface_max_radius_mm = 240.0f;  // default 320; the widest corpus pit is 205
 }
 
 #endif

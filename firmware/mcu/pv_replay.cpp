@@ -21,7 +21,7 @@
 #include "ply_points.h"
 
 #ifndef PV_REPLAY_BLOCK_BYTES
-#define PV_REPLAY_BLOCK_BYTES (48u * 1024u * 1024u)  // hosted: the default config (36.6 MB)
+#define PV_REPLAY_BLOCK_BYTES (48u * 1024u * 1024u)  // hosted: the default config (30.5 MB)
 #endif
 
 #if defined(PV_REPLAY_BARE_METAL)

@@ -44,6 +44,11 @@ const Field kFields[] = {
     {"max_unseen_share", &pv_config_t::max_unseen_share, nullptr},
     {"max_opening_tilt_deg", &pv_config_t::max_opening_tilt_deg, nullptr},
     {"duplicate_filter", nullptr, &pv_config_t::duplicate_filter},
+    {"surface_floor_points", nullptr, &pv_config_t::surface_floor_points},
+    {"surface_theta_bins", nullptr, &pv_config_t::surface_theta_bins},
+    {"surface_wall_dz_mm", &pv_config_t::surface_wall_dz_mm, nullptr},
+    {"surface_cell_mm", &pv_config_t::surface_cell_mm, nullptr},
+    {"surface_max_radius_mm", &pv_config_t::surface_max_radius_mm, nullptr},
 };
 
 std::string trim(const std::string &s) {

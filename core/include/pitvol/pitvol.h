@@ -118,6 +118,13 @@ typedef struct pv_config {
                                    from the ground); else PV_ERR_NOT_A_PIT (a
                                    mound). 180: a frame that may be upside
                                    down, no check */
+  /* method surface: capacities of the surface model (docs/memory.md; the
+     MCU profile shrinks them to fit its 512 KB block, docs/targets.md) */
+  uint32_t surface_floor_points;  /* floor band store, points (65536) */
+  uint32_t surface_theta_bins;    /* wall grid: angle bins (180: 2 deg) */
+  float surface_wall_dz_mm;       /* wall grid: bin height (2) */
+  float surface_cell_mm;          /* floor map: cell side (2) */
+  float surface_max_radius_mm;    /* widest pit around its axis (320) */
 } pv_config_t;
 
 /* Fills the paper's defaults and the default capacities (docs/method.md). */

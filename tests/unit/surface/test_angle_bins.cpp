@@ -44,9 +44,11 @@ void sin_cos_match_libm(void **) {
 // an edge (where either neighbour is right).
 void bins_match_atan2(void **) {
   static AngleBins bins[3];
+  static double tables[3][2048];  // bytes_for(360) and less
   const uint32_t counts[3] = {180, 36, 360};
   for (int k = 0; k < 3; ++k) {
-    bins[k].init(counts[k]);
+    assert_true(AngleBins::bytes_for(counts[k]) <= sizeof tables[k]);
+    bins[k].init(counts[k], tables[k]);
     const uint32_t n = counts[k];
     Rng rng{uint64_t(7 + k)};
     uint32_t near_edge = 0;
@@ -71,7 +73,8 @@ void bins_match_atan2(void **) {
 // The angle from the bin centre agrees with atan2 minus the centre angle.
 void from_centre_matches_atan2(void **) {
   static AngleBins bins;
-  bins.init(180);
+  static double tables[2048];
+  bins.init(180, tables);
   Rng rng{11};
   double worst = 0;
   for (uint32_t i = 0; i < 200000; ++i) {
