@@ -441,6 +441,8 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
 // height are usually closer than the ends of a long vertical gap: a scan
 // that missed a sector of the wall read -4.5 % bridging it along z).
 constexpr uint32_t kMaxLinearGapBins = 10;
+// End slopes of a bridge along z, mm per bin: steeper is a stray, not wall.
+constexpr float kMaxBridgeSlope = 2.0f;
 
 // Unseen bins: linear along z between seen bins of the same column, then
 // from the filled neighbours around, round by round (each round reads only
@@ -463,12 +465,28 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
       if (ws.wall[i].state != kSeen) continue;
       if (below >= 0 && uint32_t(below) + 1 < z && z - uint32_t(below) - 1 <= kMaxLinearGapBins) {
         const float a = ws.wall_val[size_t(below) * g.T + t], b = ws.wall_val[i];
+        // The slopes of the seen wall at both ends (per bin, where the bin
+        // beyond the end is seen too; else none) shape a cubic (Hermite)
+        // bridge, as a smooth surface continues them; never inside the
+        // straight one: a band hidden from the scanner lies behind the line
+        // of sight that grazes its ends (the groove behind a lip, the wall
+        // under a block). Measured: docs/method.md, bridging.
+        const float L = float(z - uint32_t(below));
+        float m0 = 0, m1 = 0;
+        if (below >= 1 && ws.wall[size_t(below - 1) * g.T + t].state == kSeen)
+          m0 = std::clamp(a - ws.wall_val[size_t(below - 1) * g.T + t], -kMaxBridgeSlope, kMaxBridgeSlope);
+        if (z + 1 < g.Z && ws.wall[i + g.T].state == kSeen)
+          m1 = std::clamp(ws.wall_val[i + g.T] - b, -kMaxBridgeSlope, kMaxBridgeSlope);
         for (uint32_t q = uint32_t(below) + 1; q < z; ++q) {
           const size_t j = size_t(q) * g.T + t;
-          const float u = float(q - uint32_t(below)) / float(z - uint32_t(below));
-          ws.wall_val[j] = a + (b - a) * u;
+          const float u = float(q - uint32_t(below)) / L;
+          const float straight = a + (b - a) * u;
+          const float u2 = u * u, u3 = u2 * u;
+          const float cubic = (2 * u3 - 3 * u2 + 1) * a + (u3 - 2 * u2 + u) * L * m0 +
+                              (-2 * u3 + 3 * u2) * b + (u3 - u2) * L * m1;
+          ws.wall_val[j] = std::max(straight, cubic);
           ws.wall_lo[j] = std::min(a, b);
-          ws.wall_hi[j] = std::max(a, b);
+          ws.wall_hi[j] = std::max(std::max(a, b), ws.wall_val[j]);
           ws.wall[j].state = kBridged;
           ws.wall[j].gap = uint8_t(std::min<uint32_t>(255, z - uint32_t(below) - 1));
           ++m->bridged_bins;
