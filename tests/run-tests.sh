@@ -18,7 +18,7 @@ jobs=$(nproc)
 
 cmake --preset default >/dev/null
 cmake --build --preset default -j "$jobs"
-ctest --preset default -j "$jobs" -LE peers  # label peers: minutes a scan, run by hand
+ctest --preset default -j "$jobs" -LE 'peers|soak'  # peers: minutes a scan; soak: 200 scans (by hand)
 
 cmake --preset debug >/dev/null
 cmake --build --preset debug -j "$jobs"
