@@ -28,6 +28,17 @@ struct Outcome {
   std::string message;
 };
 
+// The read buffer: allocated once, never cleared (the reader fills what it
+// returns). A std::vector<pv_point_t>(65536) per read_all, value-initialised
+// point by point under ASan and coverage, was 60 % of an execution. The cap
+// points handed to read() end where the allocation ends, so ASan still
+// catches a reader writing past cap.
+constexpr size_t kMaxCap = 65536;
+pv_point_t *read_buffer(size_t cap) {
+  static pv_point_t *buf = new pv_point_t[kMaxCap];
+  return buf + (kMaxCap - cap);
+}
+
 Outcome read_all(const std::string &path, size_t cap) {
   Outcome o;
   Error err;
@@ -38,9 +49,9 @@ Outcome read_all(const std::string &path, size_t cap) {
     return o;
   }
   o.opened = true;
-  std::vector<pv_point_t> buf(cap);
+  pv_point_t *buf = read_buffer(cap);
   for (;;) {
-    const long n = r->read(buf.data(), cap, &err);
+    const long n = r->read(buf, cap, &err);
     PV_FUZZ_CHECK(n >= -1 && n <= long(cap), "read returned %ld for cap %zu", n, cap);
     PV_FUZZ_CHECK(r->bytes_consumed() <= r->bytes_total(), "consumed %llu > total %llu",
                   (unsigned long long)r->bytes_consumed(), (unsigned long long)r->bytes_total());
@@ -49,16 +60,16 @@ Outcome read_all(const std::string &path, size_t cap) {
       o.message = err.message;
       PV_FUZZ_CHECK(!o.message.empty(), "read failed without a message");
       Error again;
-      PV_FUZZ_CHECK(r->read(buf.data(), cap, &again) == -1, "error not sticky");
+      PV_FUZZ_CHECK(r->read(buf, cap, &again) == -1, "error not sticky");
       PV_FUZZ_CHECK(again.message == err.message, "sticky error changed: '%s' then '%s'",
                     err.message.c_str(), again.message.c_str());
       return o;
     }
     if (n == 0) {
-      PV_FUZZ_CHECK(r->read(buf.data(), cap, &err) == 0, "read after the end is not 0");
+      PV_FUZZ_CHECK(r->read(buf, cap, &err) == 0, "read after the end is not 0");
       return o;
     }
-    o.points.insert(o.points.end(), buf.begin(), buf.begin() + n);
+    o.points.insert(o.points.end(), buf, buf + n);
   }
 }
 
@@ -68,7 +79,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   static pv::fuzz::MemFile file;
   const std::string &path = file.write(data, size);
   const size_t small = 1 + (size > 0 ? data[size - 1] % 16 : 0);
-  const Outcome a = read_all(path, 65536);
+  const Outcome a = read_all(path, kMaxCap);
   const Outcome b = read_all(path, small);
   PV_FUZZ_CHECK(a.opened == b.opened && a.failed == b.failed && a.message == b.message,
                 "outcome differs with buffer %zu: '%s' vs '%s'", small, a.message.c_str(),

@@ -2,8 +2,9 @@
 # Every test: install what is missing, then
 #  1. Release (build/): every CTest label registered by default (unit,
 #     corpus, usb, cli, serial, e2e, report: about 30 s, docs/report.md);
-#  2. Debug with ASan + UBSan (build-debug/): unit, usb, cli and a sixth of
-#     the corpus, under the sanitizers (label slow stays in Release);
+#  2. Debug with ASan + UBSan (build-debug/): unit, usb, cli, serial, e2e
+#     and a sixth of the corpus, under the sanitizers (label slow stays in
+#     Release);
 #  3. the libFuzzer harnesses, a fixed number of executions each (fuzz);
 #  4. the board (aarch64, tests under qemu-aarch64) and MCU (Cortex-M7,
 #     under qemu-system-arm) builds, their tests and the same-bits
@@ -18,13 +19,13 @@ jobs=$(nproc)
 
 cmake --preset default >/dev/null
 cmake --build --preset default -j "$jobs"
-ctest --preset default -j "$jobs" -LE peers  # label peers: minutes a scan, run by hand
+ctest --preset default -j "$jobs" -LE 'peers|soak'  # peers: minutes a scan; soak: 200 scans (by hand)
 
 cmake --preset debug >/dev/null
 cmake --build --preset debug -j "$jobs"
 # The corpus label reads the Release corpus (PITVOL_CORPUS_DIR) instead of
 # generating it again, and checks every 6th scan (tests/corpus/CMakeLists.txt).
-ctest --preset debug -j "$jobs" -L 'unit|usb|corpus|cli' -LE slow \
+ctest --preset debug -j "$jobs" -L 'unit|usb|corpus|cli|serial|e2e' -LE slow \
   -E '^corpus_generate$' --fixture-exclude-setup pv_corpus
 
 # libFuzzer harnesses (fuzz/, clang-14 + ASan + UBSan): a fixed number of

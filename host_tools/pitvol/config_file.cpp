@@ -106,20 +106,25 @@ bool read_bounded(const std::string &path, std::string *text, std::string *error
     *error = path + ": cannot open the configuration file (" + std::strerror(errno) + ")";
     return false;
   }
-  text->assign(kMaxConfigBytes + 1, '\0');
-  const size_t n = std::fread(&(*text)[0], 1, text->size(), f);
+  // In small pieces: a configuration is a few hundred bytes, and filling a
+  // 64 KiB string for each one was most of the parse.
+  text->clear();
+  char piece[4096];
+  size_t n = 0;
+  while (text->size() <= kMaxConfigBytes && (n = std::fread(piece, 1, sizeof piece, f)) > 0) {
+    text->append(piece, n);
+  }
   const bool read_error = std::ferror(f) != 0;
   std::fclose(f);
   if (read_error) {
     *error = path + ": cannot read the configuration file";
     return false;
   }
-  if (n > kMaxConfigBytes) {
+  if (text->size() > kMaxConfigBytes) {
     *error = path + ": larger than " + std::to_string(kMaxConfigBytes) +
              " bytes; a configuration file is a few 'key = value' lines";
     return false;
   }
-  text->resize(n);
   return true;
 }
 

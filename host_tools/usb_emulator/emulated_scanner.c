@@ -753,6 +753,61 @@ int pv_emu_create_from_file(pv_emu_t **out, const char *frames_path, const pv_em
   return r;
 }
 
+int pv_emu_load_memory(pv_emu_t *e, const uint8_t *bytes, size_t len, char *err, size_t errcap) {
+  g_mutex_lock(&e->lock);
+  const int busy = e->streaming && !(e->pos >= e->limit && e->tail_pos >= e->tail_len);
+  if (busy) {
+    g_mutex_unlock(&e->lock);
+    set_err(err, errcap, "a scan is being served; load the next one after it ended");
+    return -1;
+  }
+  /* The stream statistics describe the loaded stream; the transfer ones
+   * (URBs, starts, stops, plugs) keep counting. */
+  const pv_emu_stats_t old_st = e->st;
+  uint8_t *old_stream = e->stream;
+  frame_info_t *old_frames = e->frames;
+  const uint64_t old_len = e->stream_len, old_n = e->nframes;
+  e->stream = NULL;
+  e->frames = NULL;
+  e->stream_len = e->nframes = 0;
+  e->st.frames_in = e->st.points_in = e->st.frames_out = e->st.bytes_out = 0;
+  e->st.frames_corrupted = e->st.frames_dropped = e->st.points_dropped = 0;
+  e->st.points_corrupted = e->st.frames_duplicated = 0;
+  if (build_stream(e, bytes, len, err, errcap) != 0) {
+    free(e->stream);
+    free(e->frames);
+    e->stream = old_stream;
+    e->frames = old_frames;
+    e->stream_len = old_len;
+    e->nframes = old_n;
+    e->st = old_st;
+    g_mutex_unlock(&e->lock);
+    return -1;
+  }
+  free(old_stream);
+  free(old_frames);
+  e->streaming = 0; /* the next START serves the new stream from its start */
+  e->pos = 0;
+  e->tail_len = e->tail_pos = 0;
+  e->resume_pending = 0;
+  g_mutex_unlock(&e->lock);
+  return 0;
+}
+
+int pv_emu_load_file(pv_emu_t *e, const char *frames_path, char *err, size_t errcap) {
+  gchar *data = NULL;
+  gsize len = 0;
+  GError *gerr = NULL;
+  if (!g_file_get_contents(frames_path, &data, &len, &gerr)) {
+    if (err != NULL) snprintf(err, errcap, "%s", gerr != NULL ? gerr->message : "cannot read");
+    g_clear_error(&gerr);
+    return -1;
+  }
+  const int r = pv_emu_load_memory(e, (const uint8_t *)data, len, err, errcap);
+  g_free(data);
+  return r;
+}
+
 int pv_emu_unplug(pv_emu_t *e) {
   g_mutex_lock(&e->lock);
   trigger_unplug_locked(e);

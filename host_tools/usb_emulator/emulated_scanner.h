@@ -91,6 +91,13 @@ int pv_emu_create_from_file(pv_emu_t **out, const char *frames_path, const pv_em
 int pv_emu_create_from_memory(pv_emu_t **out, const uint8_t *bytes, size_t len,
                               const pv_emu_options_t *o, char *err, size_t errcap);
 
+/* The next scan: replaces the stream the device serves (the options stay),
+ * as a scanner that stays plugged in measures pit after pit. Only between
+ * scans (before the first START or after the stream ended); the next START
+ * serves it from its first frame. 0 on success, else -1 with a message. */
+int pv_emu_load_memory(pv_emu_t *e, const uint8_t *bytes, size_t len, char *err, size_t errcap);
+int pv_emu_load_file(pv_emu_t *e, const char *frames_path, char *err, size_t errcap);
+
 /* Unplug / replug now (whatever the options say). 0 on success. */
 int pv_emu_unplug(pv_emu_t *e);
 int pv_emu_replug(pv_emu_t *e);
