@@ -29,6 +29,10 @@ static inline void pv_mcu_config(pv_config_t *cfg) {
   cfg->surface_wall_dz_mm = 12.0f;  // default 2
   cfg->surface_cell_mm = 12.0f;     // default 2
   cfg->surface_max_radius_mm = 240.0f;  // default 320; the widest corpus pit is 205
+  // A bin of 10 deg spans more radius on an oval wall than one of 2 deg: with
+  // the default 1.5 mm band its few points read near its largest radius
+  // (ellipses +2.5 %); 3 mm halved that (docs/targets.md, the sweep).
+  cfg->surface_band_mm = 3.0f;
 }
 
 #endif

@@ -49,6 +49,7 @@ const Field kFields[] = {
     {"surface_wall_dz_mm", &pv_config_t::surface_wall_dz_mm, nullptr},
     {"surface_cell_mm", &pv_config_t::surface_cell_mm, nullptr},
     {"surface_max_radius_mm", &pv_config_t::surface_max_radius_mm, nullptr},
+    {"surface_band_mm", &pv_config_t::surface_band_mm, nullptr},
 };
 
 std::string trim(const std::string &s) {

@@ -125,6 +125,8 @@ typedef struct pv_config {
   float surface_wall_dz_mm;       /* wall grid: bin height (2) */
   float surface_cell_mm;          /* floor map: cell side (2) */
   float surface_max_radius_mm;    /* widest pit around its axis (320) */
+  float surface_band_mm;          /* wall surface band behind a bin's largest
+                                     radius (1.5; wider for wider bins) */
 } pv_config_t;
 
 /* Fills the paper's defaults and the default capacities (docs/method.md). */

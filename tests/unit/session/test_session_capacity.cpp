@@ -77,6 +77,7 @@ void surface_capacities_are_validated(void **) {
       {"surface_wall_dz_mm", [](pv_config_t *c) { c->surface_wall_dz_mm = NAN; }},
       {"surface_cell_mm", [](pv_config_t *c) { c->surface_cell_mm = 0.0f; }},
       {"surface_max_radius_mm", [](pv_config_t *c) { c->surface_max_radius_mm = 1.0e9f; }},
+      {"surface_band_mm", [](pv_config_t *c) { c->surface_band_mm = -1.0f; }},
   };
   for (const Bad &b : bad) {
     pv_config_t cfg;
