@@ -65,26 +65,6 @@ std::string json_escape(const std::string &s) {
   return o;
 }
 
-std::string json_str(const std::string &j, const std::string &key) {
-  const size_t k = j.find("\"" + key + "\": \"");
-  if (k == std::string::npos) return "";
-  const size_t a = k + key.size() + 5;
-  std::string v;
-  for (size_t i = a; i < j.size() && j[i] != '"'; ++i) {
-    if (j[i] == '\\' && i + 1 < j.size()) ++i;
-    v += j[i];
-  }
-  return v;
-}
-
-double json_num(const std::string &j, const std::string &key) {
-  const size_t k = j.find("\"" + key + "\": ");
-  if (k == std::string::npos) return NAN;
-  const char *p = j.c_str() + k + key.size() + 4;
-  if (std::string(p, 4) == "null") return NAN;
-  return std::strtod(p, nullptr);
-}
-
 // The object that follows "peer": in a cache file, or "".
 std::string json_object(const std::string &j, const std::string &key) {
   const size_t k = j.find("\"" + key + "\": {");
@@ -141,6 +121,26 @@ std::string entry(const PeerResult &r) {
 }
 
 }  // namespace
+
+std::string json_str(const std::string &j, const std::string &key) {
+  const size_t k = j.find("\"" + key + "\": \"");
+  if (k == std::string::npos) return "";
+  const size_t a = k + key.size() + 5;
+  std::string v;
+  for (size_t i = a; i < j.size() && j[i] != '"'; ++i) {
+    if (j[i] == '\\' && i + 1 < j.size()) ++i;
+    v += j[i];
+  }
+  return v;
+}
+
+double json_num(const std::string &j, const std::string &key) {
+  const size_t k = j.find("\"" + key + "\": ");
+  if (k == std::string::npos) return NAN;
+  const char *p = j.c_str() + k + key.size() + 4;
+  if (std::string(p, 4) == "null") return NAN;
+  return std::strtod(p, nullptr);
+}
 
 bool PeerRunner::known(const std::string &peer) {
   return peer == "grid25" || peer == "cloudcompare" || peer == "poisson";

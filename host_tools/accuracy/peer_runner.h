@@ -24,6 +24,12 @@
 
 namespace pv::tools {
 
+// Values of a flat JSON object as `pitvol measure --json` and the peers
+// print it ("key": value): a string (escapes undone), or a number (NAN
+// when absent or null).
+std::string json_str(const std::string &j, const std::string &key);
+double json_num(const std::string &j, const std::string &key);
+
 struct PeerResult {
   std::string status;  // "ok", else why there is no volume
   double volume_cm3 = NAN;

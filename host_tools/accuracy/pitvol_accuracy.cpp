@@ -45,6 +45,9 @@
 
 namespace {
 
+using pv::tools::json_num;
+using pv::tools::json_str;
+
 struct Case {
   std::string name, family;
   double exact_cm3 = 0;
@@ -78,21 +81,6 @@ bool read_manifest(const std::string &dir, std::vector<Case> *cases) {
   return !cases->empty();
 }
 
-std::string json_str(const std::string &j, const std::string &key) {
-  const size_t k = j.find("\"" + key + "\": \"");
-  if (k == std::string::npos) return "";
-  const size_t a = k + key.size() + 5, b = j.find('"', a);
-  return j.substr(a, b - a);
-}
-
-double json_num(const std::string &j, const std::string &key) {
-  const size_t k = j.find("\"" + key + "\": ");
-  if (k == std::string::npos) return NAN;
-  const char *p = j.c_str() + k + key.size() + 4;
-  if (std::string(p, 4) == "null") return NAN;
-  return std::strtod(p, nullptr);
-}
-
 std::string self_dir() {
   char buf[4096];
   const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
@@ -123,6 +111,16 @@ Outcome measure(const std::string &pitvol, const std::string &file, const std::s
   o.exact_cm3 = exact_cm3;
   if (o.status == "PV_OK") o.error = (o.volume_cm3 - exact_cm3) / exact_cm3;
   return o;
+}
+
+// A slow peer not computed yet (--peers-cached-only) is no refusal: such
+// outcomes are left out of every figure.
+bool computed(const Outcome &o) { return o.status.rfind("not computed", 0) != 0; }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 // Tolerance for the regression check, from the measured error: a quarter
@@ -172,11 +170,17 @@ struct Stats {
   // and its median half-width (issue 7: at least 95 % over the corpus).
   std::string interval() const {
     if (with_interval == 0) return "-";
-    std::vector<double> w = half_width_pct;
-    std::sort(w.begin(), w.end());
-    const double med = w.size() % 2 ? w[w.size() / 2] : 0.5 * (w[w.size() / 2 - 1] + w[w.size() / 2]);
     char b[64];
-    std::snprintf(b, sizeof b, "%d/%d, +/-%.2f %%", holds, with_interval, med);
+    std::snprintf(b, sizeof b, "%d/%d, +/-%.2f %%", holds, with_interval, median(half_width_pct));
+    return b;
+  }
+  // A cell of the side-by-side table: "mean / max (measured/run)".
+  std::string cell() const {
+    const int ok = n - failed;
+    char b[96];
+    if (n == 0) return " - |";
+    if (ok == 0) std::snprintf(b, sizeof b, " - (0/%d) |", n);
+    else std::snprintf(b, sizeof b, " %.3f / %.3f (%d/%d) |", 100 * sum_abs / ok, 100 * max_abs, ok, n);
     return b;
   }
   // A row of a family's table: method, cases, refusals, errors, time.
@@ -211,7 +215,7 @@ int write_html(const std::string &out, const std::vector<Case> &cases,
       const bool peer = std::find(peers.begin(), peers.end(), m) != peers.end();
       for (const Case &c : cases) {
         const Outcome &o = results[m][c.name];
-        if (o.status.rfind("not computed", 0) == 0) continue;  // a slow peer not run yet
+        if (!computed(o)) continue;
         std::snprintf(b, sizeof b, "%s,%s,%s,%d,%.6f,%.6f,%.6f,%.6f,", c.name.c_str(),
                       c.family.c_str(), m.c_str(), peer ? 1 : 0, c.exact_cm3, o.volume_cm3,
                       o.interval_cm3, 100 * o.error);
@@ -386,18 +390,21 @@ int main(int argc, char **argv) {
       if (std::find(order.begin(), order.end(), c.family) == order.end()) order.push_back(c.family);
     }
     order.push_back("all");
+    // A method's or peer's outcomes over a family ("all": every case).
+    auto family_stats = [&](const std::string &m, const std::string &f) {
+      Stats st;
+      for (const Case &c : cases) {
+        const Outcome &o = results[m][c.name];
+        if (computed(o) && (f == "all" || c.family == f)) st.add(o);
+      }
+      return st;
+    };
     for (const std::string &f : order) {
       std::printf("\n%s %s\n\n| method | cases | no measurement | mean abs error | max abs error | ms per case |\n"
                   "|---|---|---|---|---|---|\n",
                   markdown ? "####" : "family", f.c_str());
       for (const std::string &m : all_methods) {
-        Stats st;
-        for (const Case &c : cases) {
-          const Outcome &o = results[m][c.name];
-          // A slow peer not computed yet is no refusal: leave it out.
-          if (o.status.rfind("not computed", 0) == 0) continue;
-          if (f == "all" || c.family == f) st.add(o);
-        }
+        const Stats st = family_stats(m, f);
         if (st.n == 0) continue;
         const bool peer = std::find(peers.begin(), peers.end(), m) != peers.end();
         std::printf("%s\n", st.short_row(peer ? m + " (peer)" : m).c_str());
@@ -411,56 +418,36 @@ int main(int argc, char **argv) {
     std::printf("\n|---|");
     for (size_t i = 0; i < all_methods.size(); ++i) std::printf("---|");
     std::printf("\n");
-    auto cell = [&](const std::string &m, const std::string &f) {
-      Stats st;
-      for (const Case &c : cases) {
-        const Outcome &o = results[m][c.name];
-        if (o.status.rfind("not computed", 0) == 0) continue;
-        if (f == "all" || c.family == f) st.add(o);
-      }
-      return st;
-    };
     for (const std::string &f : order) {
       std::printf("| %s |", f == "all" ? "**all**" : f.c_str());
-      for (const std::string &m : all_methods) {
-        const Stats st = cell(m, f);
-        const int ok = st.n - st.failed;
-        if (st.n == 0) std::printf(" - |");
-        else if (ok == 0) std::printf(" - (0/%d) |", st.n);
-        else std::printf(" %.3f / %.3f (%d/%d) |", 100 * st.sum_abs / ok, 100 * st.max_abs, ok, st.n);
-      }
+      for (const std::string &m : all_methods) std::printf("%s", family_stats(m, f).cell().c_str());
       std::printf("\n");
     }
     // The same scans for every column: those no slow peer left out.
-    {
-      std::vector<std::string> common;
-      for (const Case &c : cases) {
-        bool all_ran = true;
-        for (const std::string &m : all_methods) all_ran &= results[m][c.name].status.rfind("not computed", 0) != 0;
-        if (all_ran) common.push_back(c.name);
+    std::vector<std::string> common;
+    for (const Case &c : cases) {
+      bool all_ran = true;
+      for (const std::string &m : all_methods) all_ran &= computed(results[m][c.name]);
+      if (all_ran) common.push_back(c.name);
+    }
+    if (common.size() < cases.size()) {
+      std::printf("| **all, the %zu scans every column ran** |", common.size());
+      for (const std::string &m : all_methods) {
+        Stats st;
+        for (const std::string &n : common) st.add(results[m][n]);
+        std::printf("%s", st.cell().c_str());
       }
-      if (common.size() < cases.size()) {
-        std::printf("| **all, the %zu scans every column ran** |", common.size());
-        for (const std::string &m : all_methods) {
-          Stats st;
-          for (const std::string &n : common) st.add(results[m][n]);
-          const int ok = st.n - st.failed;
-          if (ok == 0) std::printf(" - (0/%d) |", st.n);
-          else std::printf(" %.3f / %.3f (%d/%d) |", 100 * st.sum_abs / ok, 100 * st.max_abs, ok, st.n);
-        }
-        std::printf("\n");
-      }
+      std::printf("\n");
     }
     std::printf("| ms per scan, median |");
     for (const std::string &m : all_methods) {
       std::vector<double> t;
       for (const Case &c : cases) {
         const Outcome &o = results[m][c.name];
-        if (o.status.rfind("not computed", 0) != 0 && std::isfinite(o.total_ms)) t.push_back(o.total_ms);
+        if (computed(o) && std::isfinite(o.total_ms)) t.push_back(o.total_ms);
       }
-      std::sort(t.begin(), t.end());
       if (t.empty()) std::printf(" - |");
-      else std::printf(" %.0f |", t.size() % 2 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]));
+      else std::printf(" %.0f |", median(t));
     }
     std::printf("\n");
     // Why peers did not measure, once per reason.
@@ -468,7 +455,7 @@ int main(int argc, char **argv) {
     for (const std::string &p : peers) {
       for (const Case &c : cases) {
         const Outcome &o = results[p][c.name];
-        if (o.status != "PV_OK" && o.status.rfind("not computed", 0) != 0) ++reasons[p + ": " + o.status];
+        if (o.status != "PV_OK" && computed(o)) ++reasons[p + ": " + o.status];
       }
     }
     if (!reasons.empty()) std::printf("\n");

@@ -875,14 +875,14 @@ double signed_volume_mm3(const Mesh &m) {
 // and F vanishes on the cut plane, so the volume is the sum over the mesh
 // below h (triangles clipped at the plane) of the integral of (z - h) n_z,
 // exact for a linear integrand: (centroid z - h) times the z-component of
-// the triangle's area vector. Over the whole closed mesh the same sum is
-// the volume itself, which fixes the orientation against signed_volume_mm3.
+// the triangle's area vector (normals outward: counter-clockwise seen from
+// outside the void, as Mesh documents).
 double volume_below_mm3(const Mesh &m, double h_mm) {
   auto term = [h_mm](const double *a, const double *b, const double *c) {
     const double nz = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
     return ((a[2] + b[2] + c[2]) / 3.0 - h_mm) * nz;
   };
-  double below_sum = 0.0, whole_sum = 0.0;
+  double below_sum = 0.0;
   const size_t nt = m.triangles();
   for (size_t t = 0; t < nt; ++t) {
     double p[3][3];
@@ -892,7 +892,6 @@ double volume_below_mm3(const Mesh &m, double h_mm) {
       for (int k = 0; k < 3; ++k) p[a][k] = static_cast<double>(m.xyz[3 * vi + k]);
       below += p[a][2] < h_mm;
     }
-    whole_sum += term(p[0], p[1], p[2]);
     if (below == 0) continue;
     // The part below the plane: the triangle, or a clipped triangle or
     // quadrilateral, vertices in order.
@@ -912,7 +911,7 @@ double volume_below_mm3(const Mesh &m, double h_mm) {
     }
     for (int k = 1; k + 1 < n; ++k) below_sum += term(poly[0], poly[k], poly[k + 1]);
   }
-  return whole_sum * signed_volume_mm3(m) >= 0.0 ? below_sum : -below_sum;
+  return below_sum;
 }
 
 }  // namespace pv::sim

@@ -32,8 +32,8 @@
 #include <string>
 #include <vector>
 
-#include "pv_cmocka.h"
 #include "synth/synthetic_pit.h"
+#include "cli_run.h"  // last: it includes pv_cmocka.h
 
 namespace {
 
@@ -49,42 +49,9 @@ std::vector<pv_point_t> g_pts;
 pv::synth::PitSpec g_spec;
 double g_ref_volume = NAN;  // binary little endian float PLY
 
-struct Run {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string quote(const std::string &s) {
-  std::string q = "'";
-  for (char c : s) {
-    if (c == '\'') q += "'\\''";
-    else q += c;
-  }
-  return q + "'";
-}
-
-std::string slurp(const std::string &path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // Runs `pitvol ARGS` through the shell; stdout via popen, stderr via a file.
 Run run_pitvol(const std::string &args) {
-  const std::string errfile = g_dir + "/stderr.txt";
-  const std::string cmd = quote(g_pitvol) + " " + args + " 2>" + quote(errfile);
-  Run r;
-  FILE *p = popen(cmd.c_str(), "r");
-  assert_non_null(p);
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.err = slurp(errfile);
-  std::remove(errfile.c_str());
-  return r;
+  return run_command(quote(g_pitvol) + " " + args, g_dir + "/stderr.txt");
 }
 
 Run measure_json(const std::string &file, const std::string &extra = "") {

@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "pv_cmocka.h"
 #include "synth/synthetic_pit.h"
+#include "cli_run.h"  // last: it includes pv_cmocka.h
 
 namespace {
 
@@ -31,44 +31,11 @@ std::string g_tools;  // directory of the built tools
 std::string g_dir;    // scratch directory of this test
 std::string g_scan;   // a small valid scan (PLY)
 
-struct Run {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string quote(const std::string &s) {
-  std::string q = "'";
-  for (char c : s) {
-    if (c == '\'') q += "'\\''";
-    else q += c;
-  }
-  return q + "'";
-}
-
-std::string slurp(const std::string &path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // Runs TOOL ARGS through the shell with a 60 s limit (a tool that hangs on
 // /dev/zero fails the case instead of the whole run).
 Run run_tool(const std::string &tool, const std::string &args) {
-  const std::string errfile = g_dir + "/stderr.txt";
-  const std::string cmd = "timeout 60 " + quote(g_tools + "/" + tool) + " " + args + " 2>" +
-                          quote(errfile) + " </dev/null";
-  Run r;
-  FILE *p = popen(cmd.c_str(), "r");
-  assert_non_null(p);
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.err = slurp(errfile);
-  std::remove(errfile.c_str());
-  return r;
+  return run_command("timeout 60 " + quote(g_tools + "/" + tool) + " " + args + " </dev/null",
+                     g_dir + "/stderr.txt");
 }
 
 Run pitvol(const std::string &args) { return run_tool("pitvol", args); }
