@@ -737,17 +737,24 @@ int pv_emu_create_from_memory(pv_emu_t **out, const uint8_t *bytes, size_t len,
   return 0;
 }
 
-int pv_emu_create_from_file(pv_emu_t **out, const char *frames_path, const pv_emu_options_t *o,
-                            char *err, size_t errcap) {
+/* A frame stream file, whole (g_free it); NULL with err filled on failure. */
+static gchar *read_frames(const char *frames_path, gsize *len, char *err, size_t errcap) {
   gchar *data = NULL;
-  gsize len = 0;
   GError *gerr = NULL;
-  *out = NULL;
-  if (!g_file_get_contents(frames_path, &data, &len, &gerr)) {
+  if (!g_file_get_contents(frames_path, &data, len, &gerr)) {
     if (err != NULL) snprintf(err, errcap, "%s", gerr != NULL ? gerr->message : "cannot read");
     g_clear_error(&gerr);
-    return -1;
+    return NULL;
   }
+  return data;
+}
+
+int pv_emu_create_from_file(pv_emu_t **out, const char *frames_path, const pv_emu_options_t *o,
+                            char *err, size_t errcap) {
+  gsize len = 0;
+  *out = NULL;
+  gchar *data = read_frames(frames_path, &len, err, errcap);
+  if (data == NULL) return -1;
   const int r = pv_emu_create_from_memory(out, (const uint8_t *)data, len, o, err, errcap);
   g_free(data);
   return r;
@@ -795,14 +802,9 @@ int pv_emu_load_memory(pv_emu_t *e, const uint8_t *bytes, size_t len, char *err,
 }
 
 int pv_emu_load_file(pv_emu_t *e, const char *frames_path, char *err, size_t errcap) {
-  gchar *data = NULL;
   gsize len = 0;
-  GError *gerr = NULL;
-  if (!g_file_get_contents(frames_path, &data, &len, &gerr)) {
-    if (err != NULL) snprintf(err, errcap, "%s", gerr != NULL ? gerr->message : "cannot read");
-    g_clear_error(&gerr);
-    return -1;
-  }
+  gchar *data = read_frames(frames_path, &len, err, errcap);
+  if (data == NULL) return -1;
   const int r = pv_emu_load_memory(e, (const uint8_t *)data, len, err, errcap);
   g_free(data);
   return r;
