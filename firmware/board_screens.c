@@ -139,7 +139,24 @@ void pv_board_refusal_text(const pv_result_t *r, pv_status_t st, char *why, size
       snprintf(todo, cap_todo, "raise core.max_layers");
       return;
     case PV_ERR_NOT_A_PIT:
-      snprintf(why, cap_why, "does not look like a pit");
+      /* The check that refused, with its figure, in a screen line. */
+      switch (r->failed_check) {
+        case PV_PIT_CHECK_POINTS_INSIDE:
+          snprintf(why, cap_why, "%.0f%% of points in the void", 100 * r->check_value);
+          break;
+        case PV_PIT_CHECK_NARROW_MOUTH:
+          snprintf(why, cap_why, "mouth %.0f%% of widest part", 100 * r->check_value);
+          break;
+        case PV_PIT_CHECK_TOO_WIDE:
+          snprintf(why, cap_why, "wider than %.0f mm", 2 * r->check_limit);
+          break;
+        case PV_PIT_CHECK_OPENING_TILT:
+          snprintf(why, cap_why, "opening faces away");
+          break;
+        default:
+          snprintf(why, cap_why, "does not look like a pit");
+          break;
+      }
       snprintf(todo, cap_todo, "rescan the pit alone");
       return;
     default:

@@ -99,14 +99,30 @@ void widest_unseen_band(const pv_result_t &r, double rim_mm, double *from, doubl
   }
 }
 
-bool plausible_pit(const surface::Occupancy &occ, double rim_area_mm2, double max_section_mm2,
-                   double tilt_deg, double max_tilt_deg, double max_radius_mm) {
-  if (occ.points == 0) return false;
-  if (double(occ.inside) > kMaxInsideShare * double(occ.points)) return false;
-  if (!(rim_area_mm2 >= kMinMouthRatio * max_section_mm2)) return false;
+// The first plausibility check the scan fails, with its figure and limit
+// in out (failed_check, check_value, check_limit); PV_PIT_CHECK_NONE if it
+// passes them all.
+pv_pit_check_t check_pit(const surface::Occupancy &occ, double rim_area_mm2,
+                         double max_section_mm2, double tilt_deg, double max_tilt_deg,
+                         double max_radius_mm, pv_result_t *out) {
+  const auto refuse = [out](pv_pit_check_t c, double value, double limit) {
+    out->failed_check = c;
+    out->check_value = value;
+    out->check_limit = limit;
+    return c;
+  };
+  if (occ.points == 0) return refuse(PV_PIT_CHECK_NO_POINTS, 0, 0);
+  const double inside_share = double(occ.inside) / double(occ.points);
+  if (inside_share > kMaxInsideShare) {
+    return refuse(PV_PIT_CHECK_POINTS_INSIDE, inside_share, kMaxInsideShare);
+  }
+  const double mouth = max_section_mm2 > 0 ? rim_area_mm2 / max_section_mm2 : 0.0;
+  if (!(rim_area_mm2 >= kMinMouthRatio * max_section_mm2)) return refuse(PV_PIT_CHECK_NARROW_MOUTH, mouth, kMinMouthRatio);
   // The wall reaches the edge of the grids: wider than the capacity.
-  if (occ.max_radius_mm > max_radius_mm - 5.0) return false;
-  return tilt_deg <= max_tilt_deg;
+  const double widest = max_radius_mm - 5.0;
+  if (occ.max_radius_mm > widest) return refuse(PV_PIT_CHECK_TOO_WIDE, occ.max_radius_mm, widest);
+  if (!(tilt_deg <= max_tilt_deg)) return refuse(PV_PIT_CHECK_OPENING_TILT, tilt_deg, max_tilt_deg);
+  return PV_PIT_CHECK_NONE;
 }
 
 }  // namespace
@@ -159,8 +175,9 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   s->surf.point_theta = nullptr;
   s->surf.point_theta_cap = 0;
   const surface::Occupancy occ = surface::occupancy(src_occ, s->surf, m, p, kInsideMarginMm);
-  if (!plausible_pit(occ, v.rim_area_mm2, max_section, out->tilt_deg,
-                     double(s->cfg.max_opening_tilt_deg), double(s->cfg.surface_max_radius_mm))) {
+  if (check_pit(occ, v.rim_area_mm2, max_section, out->tilt_deg,
+                double(s->cfg.max_opening_tilt_deg), double(s->cfg.surface_max_radius_mm),
+                out) != PV_PIT_CHECK_NONE) {
     out->status = PV_ERR_NOT_A_PIT;
     return out->status;
   }

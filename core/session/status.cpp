@@ -67,3 +67,37 @@ extern "C" const char *pv_status_message(pv_status_t status) {
   }
   return "unknown status";
 }
+
+extern "C" const char *pv_pit_check_name(uint32_t check) {
+  switch (check) {
+    case PV_PIT_CHECK_NONE: return "PV_PIT_CHECK_NONE";
+    case PV_PIT_CHECK_NO_POINTS: return "PV_PIT_CHECK_NO_POINTS";
+    case PV_PIT_CHECK_POINTS_INSIDE: return "PV_PIT_CHECK_POINTS_INSIDE";
+    case PV_PIT_CHECK_NARROW_MOUTH: return "PV_PIT_CHECK_NARROW_MOUTH";
+    case PV_PIT_CHECK_TOO_WIDE: return "PV_PIT_CHECK_TOO_WIDE";
+    case PV_PIT_CHECK_OPENING_TILT: return "PV_PIT_CHECK_OPENING_TILT";
+    default: return "PV_PIT_CHECK_UNKNOWN";
+  }
+}
+
+extern "C" const char *pv_pit_check_message(uint32_t check) {
+  switch (check) {
+    case PV_PIT_CHECK_NONE: return "every plausibility check passed";
+    case PV_PIT_CHECK_NO_POINTS:
+      return "no point lies near the modelled floor and wall";
+    case PV_PIT_CHECK_POINTS_INSIDE:
+      return "too many points lie inside the space the wall encloses (an open "
+             "pit's void is empty: a random cloud, a mound, two pits or objects "
+             "in the pit)";
+    case PV_PIT_CHECK_NARROW_MOUTH:
+      return "the section at the rim is much smaller than the widest section "
+             "below it (a closed shell, not an open pit)";
+    case PV_PIT_CHECK_TOO_WIDE:
+      return "the wall reaches the edge of the measuring grids (wider than "
+             "surface_max_radius_mm: a trench, or a scan of more than one pit)";
+    case PV_PIT_CHECK_OPENING_TILT:
+      return "the opening faces away from the scanner (a mound, or the scanner "
+             "frame upside down; max_opening_tilt_deg)";
+    default: return "unknown check";
+  }
+}

@@ -115,6 +115,9 @@ void print_result(const pv_result_t &r) {
     snprintf(name, sizeof name, "coverage[%d]", b);
     put_float(name, r.coverage[b]);
   }
+  put_hex("failed_check", r.failed_check, 8);
+  put_double("check_value", r.check_value);
+  put_double("check_limit", r.check_limit);
 }
 
 const char *base_name(const char *path) {

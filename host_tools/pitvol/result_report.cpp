@@ -25,6 +25,12 @@ void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured) {
       .num("gap_to_mm", r.gap_to_mm)
       .num("unseen_share", r.unseen_share)
       .raw("coverage", coverage_json(r));
+  // Which plausibility check refused a PV_ERR_NOT_A_PIT, with its figures.
+  if (r.failed_check != PV_PIT_CHECK_NONE) {
+    o->str("failed_check", pv_pit_check_name(r.failed_check))
+        .num("check_value", r.check_value)
+        .num("check_limit", r.check_limit);
+  }
 }
 
 std::string coverage_json(const pv_result_t &r) {
@@ -51,11 +57,40 @@ void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method
   std::fprintf(f, "method         %s (pitvol %s)\n", pv_method_name(method), PV_VERSION_STRING);
 }
 
+std::string check_figures(const pv_result_t &r) {
+  char b[160];
+  switch (r.failed_check) {
+    case PV_PIT_CHECK_POINTS_INSIDE:
+      std::snprintf(b, sizeof b, "%.1f %% of the points inside the void (a pit: at most %.1f %%)",
+                    100 * r.check_value, 100 * r.check_limit);
+      break;
+    case PV_PIT_CHECK_NARROW_MOUTH:
+      std::snprintf(b, sizeof b, "rim section / widest section %.2f (an open pit: at least %.2f)",
+                    r.check_value, r.check_limit);
+      break;
+    case PV_PIT_CHECK_TOO_WIDE:
+      std::snprintf(b, sizeof b, "wall radius up to %.0f mm (the grids reach %.0f mm)",
+                    r.check_value, r.check_limit);
+      break;
+    case PV_PIT_CHECK_OPENING_TILT:
+      std::snprintf(b, sizeof b, "opening tilted %.1f deg from the scanner's view (at most %.1f)",
+                    r.check_value, r.check_limit);
+      break;
+    default: std::snprintf(b, sizeof b, "no figure"); break;
+  }
+  return b;
+}
+
 void print_refusal(std::FILE *f, const char *tool, pv_status_t st, const pv_result_t &r) {
   std::fprintf(f, "%s: no measurement (%s): %s\n", tool, pv_status_name(st), pv_status_message(st));
   if (st == PV_ERR_WALL_GAP) {
     std::fprintf(f, "%s: the wall from %.1f mm to %.1f mm above the bottom has no usable outline\n",
                  tool, r.gap_from_mm, r.gap_to_mm);
+  }
+  if (st == PV_ERR_NOT_A_PIT && r.failed_check != PV_PIT_CHECK_NONE) {
+    std::fprintf(f, "%s: %s: %s\n", tool, pv_pit_check_name(r.failed_check),
+                 pv_pit_check_message(r.failed_check));
+    std::fprintf(f, "%s: measured %s\n", tool, check_figures(r).c_str());
   }
 }
 

@@ -18,6 +18,9 @@ namespace pv::tools {
 void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured);
 // The wall coverage per height band, bottom first, as a JSON array.
 std::string coverage_json(const pv_result_t &r);
+// A PV_ERR_NOT_A_PIT's failed check in words with its figure and limit
+// ("31.0 % of the points inside the void (a pit: at most 15.0 %)").
+std::string check_figures(const pv_result_t &r);
 // The lines "pit volume ... method ..." of a successful measurement.
 void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method);
 // "TOOL: no measurement (STATUS): message" and, where the result names

@@ -211,6 +211,38 @@ void wall_gap_message_gives_the_heights(void **) {
   assert_true(to > 190.0 && to < 218.0);
 }
 
+// A closed sphere shell (radius 150 mm, points on a golden-angle spiral):
+// refused as not a pit, and the refusal names the check (the mouth) with
+// the figure it measured: a shell's rim section is a sliver of its widest.
+void not_a_pit_names_the_check_and_its_figure(void **) {
+  std::string body;
+  const int n = 60000;
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / n, rr = std::sqrt(1.0 - z * z);
+    const double t = 2.39996322972865332 * i;
+    const float p[3] = {float(150 * rr * std::cos(t)), float(150 * rr * std::sin(t)), float(150 * z)};
+    body.append(reinterpret_cast<const char *>(p), sizeof p);
+  }
+  const std::string path = write_file(
+      "sphere.ply", "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(n) +
+                        "\nproperty float x\nproperty float y\nproperty float z\nend_header\n" + body);
+  const Run r = pitvol("measure " + quote(path));
+  expect_exit(r, 4);
+  expect_contains(r.err, "PV_ERR_NOT_A_PIT");
+  expect_contains(r.err, "PV_PIT_CHECK_NARROW_MOUTH");
+  const size_t at = r.err.find("rim section / widest section ");
+  assert_true(at != std::string::npos);
+  double ratio = NAN, limit = NAN;
+  assert_int_equal(std::sscanf(r.err.c_str() + at,
+                               "rim section / widest section %lf (an open pit: at least %lf)",
+                               &ratio, &limit), 2);
+  assert_true(ratio >= 0 && ratio < limit);
+  const Run j = pitvol("measure " + quote(path) + " --json");
+  expect_exit(j, 4);
+  expect_contains(j.out, "\"failed_check\": \"PV_PIT_CHECK_NARROW_MOUTH\"");
+  expect_contains(j.out, "\"check_limit\": 0.5");
+}
+
 int setup(void **) {
   char tmpl[] = "/tmp/pv_cli_hostile_XXXXXX";
   if (mkdtemp(tmpl) == nullptr) return -1;
@@ -248,6 +280,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(layers_to_full_disk_exits_non_zero),
       cmocka_unit_test(help_on_every_command_of_every_tool),
       cmocka_unit_test(wall_gap_message_gives_the_heights),
+      cmocka_unit_test(not_a_pit_names_the_check_and_its_figure),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -57,6 +57,30 @@ typedef enum pv_status {
 const char *pv_status_name(pv_status_t status);
 const char *pv_status_message(pv_status_t status);
 
+/* Which plausibility check refused a scan as PV_ERR_NOT_A_PIT
+ * (pv_result_t.failed_check, with the measured figure and its limit). */
+typedef enum pv_pit_check {
+  PV_PIT_CHECK_NONE = 0,          /* passed, or the status is not NOT_A_PIT */
+  PV_PIT_CHECK_NO_POINTS = 1,     /* no point near the modelled surface */
+  PV_PIT_CHECK_POINTS_INSIDE = 2, /* value: share of the points inside the
+                                     void the wall encloses; limit: the most
+                                     a pit holds (strays, multipath) */
+  PV_PIT_CHECK_NARROW_MOUTH = 3,  /* value: the section at the rim over the
+                                     largest section; limit: the least an open
+                                     pit shows */
+  PV_PIT_CHECK_TOO_WIDE = 4,      /* value: the widest wall radius, mm; limit:
+                                     the grids' radius (surface_max_radius_mm)
+                                     less a margin */
+  PV_PIT_CHECK_OPENING_TILT = 5   /* value: the opening's tilt from the
+                                     scanner's view, deg; limit:
+                                     max_opening_tilt_deg */
+} pv_pit_check_t;
+/* "PV_PIT_CHECK_POINTS_INSIDE", ... */
+const char *pv_pit_check_name(uint32_t check);
+/* What the check found, in words, without the numbers ("points lie inside
+ * the pit's void"). */
+const char *pv_pit_check_message(uint32_t check);
+
 typedef enum pv_method {
   PV_METHOD_PAPER = 0, /* Han et al., Sensors 2026, 26(10), 3150 */
   PV_METHOD_POLAR = 1, /* paper, with a trimmed Fourier r(theta) area per
@@ -178,6 +202,11 @@ typedef struct pv_result {
   double unseen_share;      /* share of the volume in bridged, unseen wall */
   uint32_t coverage_bands;  /* bands filled in coverage[] (0 if no rim) */
   float coverage[PV_COVERAGE_BANDS];
+  /* PV_ERR_NOT_A_PIT: which check refused (pv_pit_check_t), the figure it
+   * measured and the limit it was held to; PV_PIT_CHECK_NONE, 0, 0 else. */
+  uint32_t failed_check;
+  double check_value;
+  double check_limit;
 } pv_result_t;
 
 typedef struct pv_session pv_session_t;

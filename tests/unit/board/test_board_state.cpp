@@ -223,6 +223,27 @@ void screens_say_what_matters(void **) {
   assert_true(has(t, "refused status=PV_ERR_WALL_GAP"));
   assert_true(t.find("11712") == std::string::npos);  // a refusal shows no number
 
+  // Not a pit: the screen says which check refused, with its figure, and
+  // fits the line (screen_text fails on a truncated text).
+  m.result_status = PV_ERR_NOT_A_PIT;
+  m.result.failed_check = PV_PIT_CHECK_POINTS_INSIDE;
+  m.result.check_value = 0.264;
+  m.result.check_limit = 0.15;
+  t = screen_text(m);
+  assert_true(has(t, "|26% of points in the void\n"));
+  m.result.failed_check = PV_PIT_CHECK_NARROW_MOUTH;
+  m.result.check_value = 0.112;
+  m.result.check_limit = 0.5;
+  assert_true(has(screen_text(m), "|mouth 11% of widest part\n"));
+  m.result.failed_check = PV_PIT_CHECK_TOO_WIDE;
+  m.result.check_value = 318;
+  m.result.check_limit = 315;
+  assert_true(has(screen_text(m), "|wider than 630 mm\n"));
+  m.result.failed_check = PV_PIT_CHECK_OPENING_TILT;
+  assert_true(has(screen_text(m), "|opening faces away\n"));
+  m.result.failed_check = PV_PIT_CHECK_NO_POINTS;
+  assert_true(has(screen_text(m), "|does not look like a pit\n"));
+
   m.state = PV_BOARD_SCANNING;
   m.points = 123456;
   m.live_valid = 1;

@@ -2,7 +2,8 @@
 // cloud below once measured PV_OK (or would have): a random cloud, a closed
 // sphere shell, a plane, a mound (a solid cylinder on the ground: levelled
 // upside down it looks like a pit), two pits in one scan, and a trench
-// longer than the grids. A real pit beside them still measures.
+// longer than the grids. A real pit beside them still measures. Each refusal
+// names the check the geometry implies, with its figure beyond its limit.
 #include <cmath>
 #include <vector>
 
@@ -17,16 +18,54 @@ using pv::test::Rng;
 
 pv_point_t P(double x, double y, double z) { return pv_point_t{float(x), float(y), float(z)}; }
 
-pv_status_t measure(const std::vector<pv_point_t> &pts) {
+struct Outcome {
+  pv_status_t status;
+  pv_result_t r;
+};
+
+Outcome measure(const std::vector<pv_point_t> &pts) {
   TestSession t;
   t.push_all(pts, 4096);
-  pv_result_t r;
-  return pv_session_finish(t.s, &r);
+  Outcome o{};
+  o.status = pv_session_finish(t.s, &o.r);
+  return o;
 }
 
-void expect_refused(const std::vector<pv_point_t> &pts, const char *what) {
-  const pv_status_t st = measure(pts);
-  if (st == PV_OK) fail_msg("%s measured as a pit", what);
+// Refused, and a PV_ERR_NOT_A_PIT names a check whose figure is beyond its
+// limit in the check's direction (a share or a width above, a mouth ratio
+// below); want_check (if not NONE) is the check the geometry implies.
+void expect_refused(const std::vector<pv_point_t> &pts, const char *what,
+                    pv_pit_check_t want_check = PV_PIT_CHECK_NONE) {
+  const Outcome o = measure(pts);
+  if (o.status == PV_OK) fail_msg("%s measured as a pit", what);
+  if (o.status != PV_ERR_NOT_A_PIT) {
+    assert_int_equal(o.r.failed_check, PV_PIT_CHECK_NONE);
+    if (want_check != PV_PIT_CHECK_NONE) {
+      fail_msg("%s: %s, expected %s", what, pv_status_name(o.status), pv_pit_check_name(want_check));
+    }
+    return;
+  }
+  if (want_check != PV_PIT_CHECK_NONE && o.r.failed_check != uint32_t(want_check)) {
+    fail_msg("%s refused by %s (%g against %g), expected %s", what,
+             pv_pit_check_name(o.r.failed_check), o.r.check_value, o.r.check_limit,
+             pv_pit_check_name(want_check));
+  }
+  switch (o.r.failed_check) {
+    case PV_PIT_CHECK_POINTS_INSIDE:
+    case PV_PIT_CHECK_TOO_WIDE:
+    case PV_PIT_CHECK_OPENING_TILT:
+      if (!(o.r.check_value > o.r.check_limit)) {
+        fail_msg("%s: %s figure %g not beyond %g", what, pv_pit_check_name(o.r.failed_check),
+                 o.r.check_value, o.r.check_limit);
+      }
+      break;
+    case PV_PIT_CHECK_NARROW_MOUTH:
+      if (!(o.r.check_value < o.r.check_limit)) fail_msg("%s: mouth %g", what, o.r.check_value);
+      break;
+    case PV_PIT_CHECK_NO_POINTS: break;
+    default: fail_msg("%s: PV_ERR_NOT_A_PIT without a check (%u)", what, o.r.failed_check);
+  }
+  assert_true(o.r.volume_cm3 == 0);
 }
 
 void random_cloud_is_refused(void **) {
@@ -35,7 +74,7 @@ void random_cloud_is_refused(void **) {
   for (int i = 0; i < 100000; ++i) {
     v.push_back(P(400 * g.uniform() - 200, 400 * g.uniform() - 200, 400 * g.uniform() - 200));
   }
-  expect_refused(v, "a random cloud");
+  expect_refused(v, "a random cloud", PV_PIT_CHECK_POINTS_INSIDE);
 }
 
 void sphere_shell_is_refused(void **) {
@@ -45,7 +84,7 @@ void sphere_shell_is_refused(void **) {
     const double x = g.gauss(), y = g.gauss(), z = g.gauss(), n = std::sqrt(x * x + y * y + z * z);
     v.push_back(P(150 * x / n, 150 * y / n, 150 * z / n));
   }
-  expect_refused(v, "a sphere shell");
+  expect_refused(v, "a sphere shell", PV_PIT_CHECK_NARROW_MOUTH);
 }
 
 void plane_is_refused(void **) {
@@ -72,7 +111,7 @@ void mound_is_refused(void **) {
       v.push_back(P(r * std::cos(t), r * std::sin(t), 0.1 * g.gauss()));
     }
   }
-  expect_refused(v, "a mound");
+  expect_refused(v, "a mound", PV_PIT_CHECK_OPENING_TILT);
 }
 
 // Cylinder pits of radius 100 and depth 250 centred at (cx, 0): floor,
@@ -98,7 +137,7 @@ void two_pits_are_refused(void **) {
     const double x = 600 * g.uniform() - 300, y = 300 * g.uniform() - 150;
     if (std::hypot(x - 150, y) > 100 && std::hypot(x + 150, y) > 100) v.push_back(P(x, y, 250));
   }
-  expect_refused(v, "two pits");
+  expect_refused(v, "two pits", PV_PIT_CHECK_POINTS_INSIDE);
 }
 
 void trench_wider_than_the_grids_is_refused(void **) {
@@ -117,14 +156,16 @@ void trench_wider_than_the_grids_is_refused(void **) {
       if (std::fabs(x) > 600 || std::fabs(y) > 75) v.push_back(P(x, y, 200));
     }
   }
-  expect_refused(v, "a 1.2 m trench");
+  expect_refused(v, "a 1.2 m trench", PV_PIT_CHECK_POINTS_INSIDE);
 }
 
 void one_pit_measures(void **) {
   Rng g{7};
   std::vector<pv_point_t> v;
   add_pit(g, 0, 150000, &v);
-  assert_int_equal(measure(v), PV_OK);
+  const Outcome o = measure(v);
+  assert_int_equal(o.status, PV_OK);
+  assert_int_equal(o.r.failed_check, PV_PIT_CHECK_NONE);
 }
 
 }  // namespace
