@@ -17,6 +17,12 @@
 #define SEG_NAME_FMT "seg-%08u.pvlog"
 #define SEG_NAME_LEN 18 /* "seg-" + 8 digits + ".pvlog" */
 #define MAX_LISTED 1024u
+/* The record-number floor (docs/protocol/result-log.md): magic "PVF1",
+ * the number, CRC-32C of the 8 bytes before; written only when recovery
+ * cuts records that were whole, so that their numbers stay used. */
+#define FLOOR_NAME "floor.pvlog"
+#define FLOOR_TMP_NAME "floor.pvlog.tmp"
+#define FLOOR_MAGIC 0x31465650u
 
 static void put_u32(uint8_t *p, uint32_t v) {
   p[0] = (uint8_t)v;
@@ -181,6 +187,72 @@ static void update_first_seq(pv_log_t *log) {
     log->first_seq = segment_first_seq(log, log->segs[i]);
 }
 
+/* The stored floor, 0 if there is none or it is damaged. */
+static uint32_t read_floor(const pv_log_t *log) {
+  const int fd = openat(log->dir_fd, FLOOR_NAME, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  uint8_t b[12];
+  const int ok = read_at(fd, b, sizeof b, 0);
+  close(fd);
+  if (!ok || get_u32(b) != FLOOR_MAGIC || pv_crc32c(0, b, 8) != get_u32(b + 8)) return 0;
+  return get_u32(b + 4);
+}
+
+/* Stores the floor durably: a temporary file, fsync, rename over the old
+ * one, fsync of the directory (a cut leaves the old floor or the new). */
+static pv_log_status_t write_floor(pv_log_t *log, uint32_t floor) {
+  uint8_t b[12];
+  put_u32(b, FLOOR_MAGIC);
+  put_u32(b + 4, floor);
+  put_u32(b + 8, pv_crc32c(0, b, 8));
+  const int fd = openat(log->dir_fd, FLOOR_TMP_NAME, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return io_error(log);
+  const int ok = write_at(fd, b, sizeof b, 0) && fsync(fd) == 0;
+  close(fd);
+  if (!ok || renameat(log->dir_fd, FLOOR_TMP_NAME, log->dir_fd, FLOOR_NAME) != 0 ||
+      fsync(log->dir_fd) != 0)
+    return io_error(log);
+  return PV_LOG_OK;
+}
+
+/* Complete records after the first damaged one (from `at` to `size`): a
+ * power cut tears only the record being written, so a valid record behind
+ * the damage was written and acknowledged before the storage failed. The
+ * cut loses it; its number is raised into seq_floor so that no later
+ * record takes it (the host may hold it). Found by their magic at any byte
+ * offset and checked whole (length, CRC) by read_record. */
+static void note_lost_records(pv_log_t *log, int fd, off_t at, off_t size, uint8_t *rec,
+                              size_t cap) {
+  uint8_t win[4096];
+  const uint8_t magic[4] = {(uint8_t)PV_LOG_RECORD_MAGIC, (uint8_t)(PV_LOG_RECORD_MAGIC >> 8),
+                            (uint8_t)(PV_LOG_RECORD_MAGIC >> 16),
+                            (uint8_t)(PV_LOG_RECORD_MAGIC >> 24)};
+  for (off_t base = at + 1; base + (off_t)PV_LOG_HEADER_BYTES <= size;) {
+    const off_t left = size - base;
+    const size_t n = left < (off_t)sizeof win ? (size_t)left : sizeof win;
+    if (!read_at(fd, win, n, base)) return;
+    size_t i = 0;
+    for (; i + sizeof magic <= n; ++i) {
+      if (memcmp(win + i, magic, sizeof magic) != 0) continue;
+      const off_t off = base + (off_t)i;
+      const size_t len = read_record(fd, off, size, rec, cap);
+      if (len == 0) continue;
+      /* The damaged record is at most number last_seq + 1 and every record
+       * takes at least PV_LOG_RECORD_BYTES(0): a number beyond that is not
+       * one this log wrote (garbage that happens to check), and is ignored
+       * rather than allowed to push the numbering far ahead. */
+      const uint32_t seq = get_u32(rec + 4);
+      const uint64_t most = (uint64_t)log->last_seq + 1u + (uint64_t)(off - at) / PV_LOG_RECORD_BYTES(0);
+      if (seq > log->last_seq && seq <= most) {
+        log->recovery.records_lost++;
+        if (seq > log->seq_floor) log->seq_floor = seq;
+      }
+    }
+    /* The last 3 bytes may start a magic that crosses the window. */
+    base += (off_t)(n > sizeof magic ? n - (sizeof magic - 1) : n);
+  }
+}
+
 /* Keeps the complete records of one segment, cuts a torn tail. */
 static pv_log_status_t recover_segment(pv_log_t *log, uint32_t number, int *fd_out,
                                        uint32_t *size_out) {
@@ -200,12 +272,14 @@ static pv_log_status_t recover_segment(pv_log_t *log, uint32_t number, int *fd_o
     if (seq == 0 || seq <= log->last_seq) break; /* stale or foreign: not ours */
     if (log->first_seq == 0) log->first_seq = seq;
     log->last_seq = seq;
+    if (seq > log->seq_floor) log->seq_floor = seq;
     log->recovery.records++;
     at += (off_t)n;
   }
   if (at < st.st_size) {
     log->recovery.torn_bytes += (uint32_t)(st.st_size - at);
     log->recovery.segments_torn++;
+    note_lost_records(log, fd, at, st.st_size, rec, sizeof rec);
     if (ftruncate(fd, at) != 0 || fsync(fd) != 0) {
       close(fd);
       return io_error(log);
@@ -277,6 +351,15 @@ pv_log_status_t pv_log_open(pv_log_t *log, const char *dir, const pv_log_config_
     log->segs[log->seg_count++] = nums[i];
   }
   if (skip && fsync(log->dir_fd) != 0) return io_error(log);
+  /* Numbers of records cut by an earlier recovery stay used (the cut bytes
+   * are gone from the segments); a recovery that cut whole records now
+   * stores its new floor before any append can take those numbers. */
+  const uint32_t stored = read_floor(log);
+  if (log->seq_floor > log->last_seq && log->seq_floor > stored) {
+    st = write_floor(log, log->seq_floor);
+    if (st != PV_LOG_OK) return st;
+  }
+  if (stored > log->seq_floor) log->seq_floor = stored;
   if (log->seg_count == 0) return new_segment(log);
   return PV_LOG_OK;
 }
@@ -299,7 +382,7 @@ pv_log_status_t pv_log_append(pv_log_t *log, const void *payload, size_t len,
     if (st != PV_LOG_OK) return st;
   }
   uint8_t rec[PV_LOG_RECORD_BYTES(PV_LOG_MAX_PAYLOAD_BYTES)];
-  const uint32_t seq = log->last_seq + 1;
+  const uint32_t seq = log->seq_floor + 1;
   put_u32(rec, PV_LOG_RECORD_MAGIC);
   put_u32(rec + 4, seq);
   put_u32(rec + 8, (uint32_t)len);
@@ -312,7 +395,7 @@ pv_log_status_t pv_log_append(pv_log_t *log, const void *payload, size_t len,
     return st;
   }
   log->active_bytes += (uint32_t)total;
-  log->last_seq = seq;
+  log->last_seq = log->seq_floor = seq;
   if (log->first_seq == 0) log->first_seq = seq;
   if (seq_out) *seq_out = seq;
   return PV_LOG_OK;

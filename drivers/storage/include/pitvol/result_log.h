@@ -70,6 +70,9 @@ typedef struct pv_log_recovery {
   uint32_t records;        /* complete records kept */
   uint32_t torn_bytes;     /* bytes cut off after the last complete record(s) */
   uint32_t segments_torn;  /* segments that had a torn tail */
+  uint32_t records_lost;   /* complete records found after a damaged one and
+                              cut with it (storage damage, not a power cut:
+                              a cut only tears the last record) */
 } pv_log_recovery_t;
 
 typedef struct pv_log {
@@ -81,6 +84,9 @@ typedef struct pv_log {
   uint32_t seg_count;
   uint32_t active_bytes;               /* size of the active segment */
   uint32_t first_seq, last_seq;        /* 0, 0 when empty */
+  uint32_t seq_floor;                  /* the highest record number ever seen,
+                                          kept or lost: appends go above it,
+                                          so a number is never reused */
   int read_fd;                         /* segment a cursor reads, -1 if none */
   uint32_t read_seg;
   int last_errno;                      /* of the last PV_LOG_ERR_IO */
