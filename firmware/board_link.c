@@ -1,6 +1,8 @@
 /* The board's serial link and result log (board_link.h). */
 #include "board_link.h"
 
+#include "board_clock.h"
+
 #include <errno.h>
 #include <poll.h>
 #include <stdio.h>
@@ -332,8 +334,6 @@ static void on_timer(pv_board_app_t *app, int fd, short revents, void *user) {
   service(bl);
 }
 
-/* 2024-01-01T00:00:00Z: any earlier clock reading is an unset clock. */
-#define PV_BOARD_PLAUSIBLE_UNIX_S ((time_t)1704067200)
 
 /* The result: into the log (durable), then out; its id is the record number. */
 static void on_result(pv_board_link_t *bl) {
@@ -342,10 +342,7 @@ static void on_result(pv_board_link_t *bl) {
   m.which_body = pitvol_Message_result_tag;
   pitvol_Result *r = &m.body.result;
   const pv_result_t *res = &md->result;
-  /* A board without a battery-backed clock or network time starts in 1970:
-   * such a time is no date, sent as 0 ("clock not set", docs/protocol). */
-  const time_t now = time(NULL);
-  r->time_unix_s = now >= PV_BOARD_PLAUSIBLE_UNIX_S ? (uint64_t)now : 0u;
+  r->time_unix_s = pv_board_result_time((int64_t)time(NULL));
   r->status = (int32_t)md->result_status;
   snprintf(r->method, sizeof r->method, "%s", pv_method_name(bl->app->cfg.core.method));
   if (md->result_status == PV_OK) {

@@ -124,4 +124,14 @@ printf 'start\nstop\n' | mon "$work/bad-port" watch --json --seconds 2 >"$work/b
 grep -q '"type": "result", "id": 1, .*"status": "PV_ERR_[A-Z_]*", .*"volume_cm3": null' "$work/bad.json" \
   || fail "failed scan: no result with an error status ($(cat "$work/bad.json"))"
 grep -q '"type": "error", "code": [1-9][0-9]*, "name": "PV_ERR_' "$work/bad.json" || fail "failed scan: no Error"
+
+# 5. A board whose clock was never set (1970, no RTC): its results carry
+# time 0, which the monitor shows as clock-not-set, not as a 1970 date.
+start_device noclock --preload 2 --clock 0
+mon "$work/noclock-port" fetch --json >"$work/noclock.json" 2>/dev/null || fail "noclock fetch"
+[ "$(grep -c '"time_utc": "clock-not-set"' "$work/noclock.json")" -eq 2 ] \
+  || fail "unset clock: want 2 results with clock-not-set ($(cat "$work/noclock.json"))"
+grep -q '1970' "$work/noclock.json" && fail "unset clock shown as a 1970 date"
+mon "$work/noclock-port" fetch >"$work/noclock.csv" 2>/dev/null || fail "noclock fetch csv"
+[ "$(cut -d, -f2 "$work/noclock.csv" | tail -n +2 | tr '\n' ' ')" = "0 0 " ] || fail "unset clock: CSV time"
 echo "PASS"

@@ -8,7 +8,7 @@
 //
 //   pv-test-device --log DIR --port-link PATH [--preload N] [--scan FILE]
 //                  [--noise PERCENT] [--seed S] [--max-dry KG_M3] [--seconds S]
-//                  [--lose-id ID]
+//                  [--lose-id ID] [--clock UNIX_S]
 //
 // PATH becomes a symlink to the pty's slave side: the monitor's PORT.
 // --noise: that share of the bytes, both directions, is flipped, dropped or
@@ -32,6 +32,7 @@
 #include <pb_decode.h>
 #include <pb_encode.h>
 
+#include "board_clock.h"
 #include "pitvol/density.h"
 #include "pitvol/link.h"
 #include "pitvol/pitvol.h"
@@ -55,6 +56,7 @@ struct Options {
   std::string log_dir, port_link, scan;
   long preload = 0;
   uint32_t lose_id = 0;  // acts as if this record were damaged: never sent
+  int64_t clock = 1790000000;  // the board clock's reading at result 0 (0: never set)
   double noise_percent = 0, max_dry = 1850.0, seconds = 600;
   uint64_t seed = 1;
 };
@@ -130,7 +132,9 @@ void pump_outbox(Device &d) {
 pitvol_Result make_result(Device &d, uint32_t id, const pv_result_t &r, const char *method) {
   pitvol_Result out = pitvol_Result_init_zero;
   out.id = id;
-  out.time_unix_s = 1790000000ull + id * 60u;  // a fixed clock: deterministic logs
+  // A fixed clock (deterministic logs) through the board's own rule: an
+  // unset clock (--clock 0, 1970) gives time 0.
+  out.time_unix_s = pv_board_result_time(d.opt.clock + int64_t(id) * 60);
   out.status = int32_t(r.status);
   std::snprintf(out.method, sizeof out.method, "%s", method);
   out.volume_cm3 = r.volume_cm3;
@@ -417,7 +421,7 @@ int usage() {
   std::fprintf(stderr,
                "usage: pv-test-device --log DIR --port-link PATH [--preload N] [--scan FILE]\n"
                "                      [--noise PERCENT] [--seed S] [--max-dry KG_M3] [--seconds S]\n"
-               "                      [--lose-id ID]\n");
+               "                      [--lose-id ID] [--clock UNIX_S]\n");
   return 2;
 }
 
@@ -438,6 +442,7 @@ int main(int argc, char **argv) {
     else if (a == "--max-dry") d.opt.max_dry = std::atof(v);
     else if (a == "--seconds") d.opt.seconds = std::atof(v);
     else if (a == "--lose-id") d.opt.lose_id = uint32_t(std::atol(v));
+    else if (a == "--clock") d.opt.clock = std::strtoll(v, nullptr, 10);
     else return usage();
   }
   if (d.opt.log_dir.empty() || d.opt.port_link.empty()) return usage();
