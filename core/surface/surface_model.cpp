@@ -468,11 +468,12 @@ float bin_value(const WallBin &b, bool borrow = false, double slope_a = 0.0) {
 void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
   float nb[49];
   // The neighbours within 3 bins: 14 deg x 14 mm of the default's 2 deg x
-  // 2 mm bins. Coarse bins (10 deg x 12 mm) take the nearest ring, 30 deg x
-  // 36 mm: within 3 of them, 70 x 84 mm, a block face or a bowl's foot had
-  // mostly other wall around it and was rejected as multipath (bowls read
-  // -0.39 to 0.00 %, -0.03 to +0.13 % with the ring).
-  const int reach = p.coarse_bins ? 1 : 3;
+  // 2 mm bins. Within 3 coarse bins (10 deg x 12 mm), 70 x 84 mm, a bowl's
+  // foot had mostly other wall around it and was rejected as multipath:
+  // coarse bins look 2 bins out, 50 x 60 mm (measured, MCU against the
+  // default configuration on 28 corpus scans: within 0.3 % 21 scans with 3
+  // bins, 22 with 1, 23 with 2; docs/targets.md).
+  const int reach = p.coarse_bins ? 2 : 3;
   for (uint32_t z = 0; z < g.Z; ++z) {
     for (uint32_t t = 0; t < g.T; ++t) {
       WallBin &b = ws.wall[size_t(z) * g.T + t];
