@@ -940,7 +940,8 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
 
   GridCtx gc{g, &ws, m, p.band_mm, rim_mm - p.rim_guard_mm, false, theta_cache(ws)};
   if (p.coarse_bins) {
-    std::fill(ws.wall_hi, ws.wall_hi + bins, 0.0f);  // the sub-cell bits: none
+    auto *const sub = reinterpret_cast<uint32_t *>(ws.wall_hi);  // written as bits only
+    std::fill(sub, sub + bins, 0u);  // the sub-cell bits: none
     src.visit(src.ctx, grid_batch<false, true>, &gc);
     // The angle slopes live in wall_lo until the bins' values replace them.
     theta_slopes(ws, g, ws.wall_lo, ws.wall_val);
