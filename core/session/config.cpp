@@ -38,6 +38,7 @@ extern "C" void pv_config_default(pv_config_t *cfg) {
   cfg->surface_cell_mm = 2.0f;
   cfg->surface_max_radius_mm = 320.0f;
   cfg->surface_band_mm = 1.5f;
+  cfg->surface_coarse_bins = 0;
 }
 
 namespace {
@@ -88,6 +89,7 @@ extern "C" pv_status_t pv_config_validate(const pv_config_t *cfg, const char **f
   else if (!in_range(cfg->surface_cell_mm, 0.5f, 20.0f)) bad = "surface_cell_mm";
   else if (!in_range(cfg->surface_max_radius_mm, 50.0f, 2000.0f)) bad = "surface_max_radius_mm";
   else if (!in_range(cfg->surface_band_mm, 0.5f, 20.0f)) bad = "surface_band_mm";
+  else if (cfg->surface_coarse_bins > 1) bad = "surface_coarse_bins";
   if (field_out != nullptr) *field_out = bad;
   return bad == nullptr ? PV_OK : PV_ERR_INVALID_CONFIG;
 }

@@ -76,6 +76,7 @@ inline surface::Params surface_params(const pv_config_t &c) {
   p.dz_mm = double(c.surface_wall_dz_mm);
   p.cell_mm = double(c.surface_cell_mm);
   p.band_mm = double(c.surface_band_mm);
+  p.coarse_bins = c.surface_coarse_bins != 0;
   // Rings of the volume integration: half a floor cell (1 mm by default),
   // finer would only resample the same cells; sizes the ray arrays.
   p.integrate_dr_mm = 0.5 * p.cell_mm;

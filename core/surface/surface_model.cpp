@@ -280,7 +280,22 @@ void floor_share_pass(void *c, const Point &q) {
 // Passes 1 and 2 over a batch. The context is read into locals once per
 // batch (the compiler cannot keep it in registers across the bins' stores
 // otherwise), and pass 1 and 2 are separate loops (no per-point flag).
-template <bool kSecond>
+// Params::coarse_bins: which parts of a bin the points fell in, as bits of
+// a kSubT x kSubZ grid of sub-cells (10 deg x 12 mm bins: 2 deg x 2 mm, the
+// default configuration's bins), kept in wall_hi until the bins' values
+// replace them. The parts nothing fell in are unseen wall inside a seen bin.
+constexpr uint32_t kSubT = 5, kSubZ = 6;
+
+inline uint32_t sub_cell_bit(double a_over_dth, double z_over_dz) {
+  // a / dth in [-1/2, 1/2], z / dz in [-1/2, 1/2] from the bin centre.
+  const double ut = std::clamp((a_over_dth + 0.5) * kSubT, 0.0, double(kSubT - 1));
+  const double uz = std::clamp((z_over_dz + 0.5) * kSubZ, 0.0, double(kSubZ - 1));
+  return 1u << (uint32_t(uz) * kSubT + uint32_t(ut));
+}
+
+// kCoarse (Params::coarse_bins, pass 1 only): the angle of each bin's
+// largest radius (theta_slopes) and the sub-cells the points fell in.
+template <bool kSecond, bool kCoarse = false>
 void grid_batch(void *c, const Point *pts, size_t count) {
   auto *x = static_cast<GridCtx *>(c);
   const Geo g = x->g;
@@ -290,6 +305,8 @@ void grid_batch(void *c, const Point *pts, size_t count) {
   WallBin *const wall = x->ws->wall;
   FloorCell *const floor = x->ws->floor;
   const AngleBins &bins = *x->ws->theta;
+  auto *const sub = reinterpret_cast<uint32_t *>(x->ws->wall_hi);  // kCoarse
+  const double per_dth = double(g.T) / (2 * kPi);
   const ThetaCache cache = x->cache;
   size_t idx = cache.next;
   x->cache.next += count;
@@ -322,10 +339,16 @@ void grid_batch(void *c, const Point *pts, size_t count) {
     } else {
       t = theta_of(cache, idx, dx, dy, bins);
     }
-    WallBin &b = wall[size_t(uint32_t(zb)) * g.T + t];
+    const size_t bi = size_t(uint32_t(zb)) * g.T + t;
+    WallBin &b = wall[bi];
     const auto r = float(std::sqrt(dx * dx + dy * dy));
     if (!kSecond) {
       ++b.n_all;
+      if (kCoarse) {
+        const double a = bins.from_centre(t, dx, dy);
+        if (r > b.top1) b.atop = float(a);
+        sub[bi] |= sub_cell_bit(a * per_dth, zb - double(uint32_t(zb)) - 0.5);
+      }
       offer_top(&b.top1, &b.top2, r);
     } else if (r >= near_max(b) - b.band) {
       const double zr = q.z - (g.z0 + (uint32_t(zb) + 0.5) * g.dz);
@@ -360,6 +383,47 @@ void widen_bands_on_slopes(Workspace &ws, const Geo &g, const Params &p) {
   }
 }
 
+// Params::coarse_bins: the wall's slope along the angle at each bin, mm per
+// rad, into slope[] (theta_bins x z_bins): through the largest radii of the
+// two neighbouring bins at their angles, or of one neighbour and the bin
+// itself. A largest radius lies on the wall within the noise (multipath is
+// inside it), at an angle known to the point, so two of them give the slope
+// without a fit. 0 where neither neighbour has points.
+constexpr double kMaxThetaSlope = 300.0;  // mm per rad, as bin_value's clamp
+
+void theta_slopes(const Workspace &ws, const Geo &g, float *slope, float *spread) {
+  const double dth = 2 * kPi / g.T;
+  for (uint32_t z = 0; z < g.Z; ++z) {
+    const WallBin *row = ws.wall + size_t(z) * g.T;
+    for (uint32_t t = 0; t < g.T; ++t) {
+      const WallBin &b = row[t], &lo = row[t == 0 ? g.T - 1 : t - 1],
+                    &hi = row[t + 1 == g.T ? 0 : t + 1];
+      const bool has_lo = lo.n_all > 0, has_hi = hi.n_all > 0, has = b.n_all > 0;
+      double s = 0.0, ds = 0.0;
+      if (has_lo && has_hi) {
+        // The run is at least one bin: each angle is within half a bin of its centre.
+        s = (double(hi.top1) - double(lo.top1)) / (2 * dth + double(hi.atop) - double(lo.atop));
+        if (has) {
+          // The one-sided slopes through the bin's own largest radius: half
+          // their difference bounds how far the secant is from the slope here.
+          const double run_hi = dth + double(hi.atop) - double(b.atop);
+          const double run_lo = dth + double(b.atop) - double(lo.atop);
+          if (run_hi >= 0.5 * dth && run_lo >= 0.5 * dth) {
+            ds = 0.5 * std::fabs((double(hi.top1) - double(b.top1)) / run_hi -
+                                 (double(b.top1) - double(lo.top1)) / run_lo);
+          }
+        }
+      } else if (has && (has_lo || has_hi)) {
+        const WallBin &o = has_hi ? hi : lo;
+        const double run = (has_hi ? dth : -dth) + double(o.atop) - double(b.atop);
+        if (std::fabs(run) >= 0.5 * dth) s = (double(o.top1) - double(b.top1)) / run;
+      }
+      slope[size_t(z) * g.T + t] = float(std::clamp(s, -kMaxThetaSlope, kMaxThetaSlope));
+      spread[size_t(z) * g.T + t] = float(std::min(ds, kMaxThetaSlope));
+    }
+  }
+}
+
 // Slopes from fewer points are noise (measured: sparse lower-wall bins read
 // 0.2-0.5 mm out with 4); their mean radius is read at their mean height.
 constexpr uint32_t kMinSlopePoints = 8;
@@ -367,7 +431,11 @@ constexpr uint32_t kMinSlopePoints = 8;
 // R at the bin centre from its surface points: r = a + b (z - zc) + c (t - tc),
 // least squares; the slopes are dropped where the points do not span the
 // bin enough to fix them (then the mean stands, as for one point).
-float bin_value(const WallBin &b) {
+// borrow: a bin too sparse to fit its slope along the angle takes slope_a
+// (theta_slopes) instead of none: its few points (those near its largest
+// radius) lie off its centre, on an oval wall at a radius millimetres from
+// the centre's (10 deg bins: ellipses read 1 to 1.7 % high without it).
+float bin_value(const WallBin &b, bool borrow = false, double slope_a = 0.0) {
   const double n = b.n, mr = b.sr / n, mz = b.sz / n, ma = b.sa / n;
   const double vz = b.szz / n - mz * mz, va = b.saa / n - ma * ma;
   const double cza = b.sza / n - mz * ma;
@@ -389,6 +457,7 @@ float bin_value(const WallBin &b) {
   } else if (use_a) {
     ba = cra / va;
   }
+  if (borrow && !use_a) ba = slope_a;
   bz = std::clamp(bz, -3.0, 3.0);
   ba = std::clamp(ba, -300.0, 300.0);  // mm per rad: |dr/dtheta| <= 3 r at r = 100
   return float(mr - bz * mz - ba * ma);
@@ -398,15 +467,22 @@ float bin_value(const WallBin &b) {
 // wall, only multipath or floor points (inside) or strays (outside).
 void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
   float nb[49];
+  // The neighbours within 3 bins: 14 deg x 14 mm of the default's 2 deg x
+  // 2 mm bins. Within 3 coarse bins (10 deg x 12 mm), 70 x 84 mm, a bowl's
+  // foot had mostly other wall around it and was rejected as multipath:
+  // coarse bins look 2 bins out, 50 x 60 mm (measured, MCU against the
+  // default configuration on 28 corpus scans: within 0.3 % 21 scans with 3
+  // bins, 22 with 1, 23 with 2; docs/targets.md).
+  const int reach = p.coarse_bins ? 2 : 3;
   for (uint32_t z = 0; z < g.Z; ++z) {
     for (uint32_t t = 0; t < g.T; ++t) {
       WallBin &b = ws.wall[size_t(z) * g.T + t];
       if (b.state != kSeen || b.n >= p.sparse_points) continue;
       size_t k = 0;
-      for (int dz = -3; dz <= 3; ++dz) {
+      for (int dz = -reach; dz <= reach; ++dz) {
         const int zz = int(z) + dz;
         if (zz < 0 || zz >= int(g.Z)) continue;
-        for (int dt = -3; dt <= 3; ++dt) {
+        for (int dt = -reach; dt <= reach; ++dt) {
           int wrapped = int(t) + dt;  // around the circle, without a division
           wrapped += wrapped < 0 ? int(g.T) : (wrapped >= int(g.T) ? -int(g.T) : 0);
           const auto tt = uint32_t(wrapped);
@@ -588,6 +664,8 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
   }
 }
 
+constexpr double kDefaultCellMm = 2.0;  // Params::cell_mm's default
+
 // The floor is the surface connected to the lowest cells without a step:
 // flood from them, accepting a neighbour that rises at most max_rise_mm
 // (any descent is accepted). Multipath floating above the floor, block tops
@@ -617,6 +695,12 @@ void flood_floor(Workspace &ws, const Geo &g, const Params &p) {
       ws.queue[tail++] = uint32_t(i);
     }
   }
+  // A step is a rise per cell; coarse cells (Params::coarse_bins) take the
+  // same slope as the default 2 mm cells: 12 mm cells stopped the flood on
+  // a bowl's sides, whose floor then continued flat from the bottom (+0.5
+  // to +1 %).
+  const float rise = float(p.coarse_bins ? p.floor_max_rise_mm * g.cell / kDefaultCellMm
+                                         : p.floor_max_rise_mm);
   while (head < tail) {
     const uint32_t i = ws.queue[head++];
     const uint32_t x = i % C, y = i / C;
@@ -627,7 +711,7 @@ void flood_floor(Workspace &ws, const Geo &g, const Params &p) {
       const size_t j = size_t(yy) * C + size_t(xx);
       FloorCell &o = ws.floor[j];
       if (o.state == kEmpty || o.state == kFloor) continue;
-      if (o.value > v + float(p.floor_max_rise_mm)) continue;
+      if (o.value > v + rise) continue;
       o.state = kFloor;
       ws.queue[tail++] = uint32_t(j);
     }
@@ -764,6 +848,43 @@ void drop_floor_at_wall(Workspace &ws, const Geo &g, const Model &m, const Param
   }
 }
 
+// Params::coarse_bins: the value of a seen bin i (read before it replaces
+// the slopes in wall_lo, wall_val and the sub-cell bits in wall_hi), and
+// into m what its few points leave uncertain, as volume: its wedge
+// (R dth dz) times a radius. Two parts, both from the bin's own geometry:
+// - The borrowed slope (sparse_mm3): a bin with fewer than kMinSlopePoints
+//   surface points is read at its centre through the secant slope of its
+//   neighbours; half the difference of the two one-sided slopes through
+//   its own largest radius bounds that secant's error, times the points'
+//   mean angle from the centre.
+// - Unseen parts (subbin_mm3): the sub-cells no point fell in (kSubT x
+//   kSubZ, the default grid's bin size) are unseen wall inside a seen bin.
+//   How far the wall there can lie from the value: as far as the bin's
+//   largest radius lies outside the value's line (along the angle through
+//   the slope, along z half a bin of the slope from the bins above and
+//   below) - a groove, a block's edge, a bowl's foot the points only touch.
+float coarse_bin(Workspace &ws, const Geo &g, size_t i, Model *m) {
+  const WallBin &b = ws.wall[i];
+  const double dth = 2 * kPi / g.T;
+  const double slope = ws.wall_lo[i], slope_spread = ws.wall_val[i];
+  uint32_t bits;
+  std::memcpy(&bits, &ws.wall_hi[i], sizeof bits);
+  const float value = bin_value(b, true, slope);
+  const double wedge = double(value) * dth * g.dz;
+  if (b.n < kMinSlopePoints) m->sparse_mm3 += wedge * slope_spread * std::fabs(b.sa / b.n);
+  uint32_t seen = 0;
+  for (uint32_t k = 0; k < kSubT * kSubZ; ++k) seen += (bits >> k) & 1u;
+  const double unseen = 1.0 - double(seen) / double(kSubT * kSubZ);
+  double slope_z = 0.0;
+  const size_t bins = size_t(g.T) * g.Z;
+  if (i >= g.T && i + g.T < bins && ws.wall[i - g.T].n_all > 0 && ws.wall[i + g.T].n_all > 0) {
+    slope_z = std::fabs(double(ws.wall[i + g.T].top1) - double(ws.wall[i - g.T].top1)) / (2 * g.dz);
+  }
+  const double beyond = double(b.top1) - (double(value) + slope * double(b.atop)) - 0.5 * g.dz * slope_z;
+  m->subbin_mm3 += wedge * unseen * std::max(0.0, beyond);
+  return value;
+}
+
 }  // namespace
 
 Capacity capacity_for(const Params &p, double depth_range_mm, double max_radius_mm) {
@@ -812,13 +933,21 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   const Geo g = geo_of(ws, *m, p);
   const size_t bins = size_t(g.T) * g.Z;
   for (size_t i = 0; i < bins; ++i) {
-    ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0.0f, 0, 0, 0, 0, 0, 0, 0, 0};
   }
   const size_t cells = size_t(g.C) * g.C;
   for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty};
 
   GridCtx gc{g, &ws, m, p.band_mm, rim_mm - p.rim_guard_mm, false, theta_cache(ws)};
-  src.visit(src.ctx, grid_batch<false>, &gc);
+  if (p.coarse_bins) {
+    auto *const sub = reinterpret_cast<uint32_t *>(ws.wall_hi);  // written as bits only
+    std::fill(sub, sub + bins, 0u);  // the sub-cell bits: none
+    src.visit(src.ctx, grid_batch<false, true>, &gc);
+    // The angle slopes live in wall_lo until the bins' values replace them.
+    theta_slopes(ws, g, ws.wall_lo, ws.wall_val);
+  } else {
+    src.visit(src.ctx, grid_batch<false>, &gc);
+  }
   widen_bands_on_slopes(ws, g, p);
   gc.second = true;
   gc.cache.start();
@@ -850,7 +979,8 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
       b.state = kFloorBin;  // the floor map bounds the void here
     } else if (b.n >= p.min_points) {
       b.state = kSeen;
-      ws.wall_val[i] = ws.wall_lo[i] = ws.wall_hi[i] = bin_value(b);
+      ws.wall_val[i] = ws.wall_lo[i] = ws.wall_hi[i] =
+          p.coarse_bins ? coarse_bin(ws, g, i, m) : bin_value(b);
       ++m->seen_bins;
     }
   }

@@ -57,6 +57,11 @@ struct Params {
   double floor_wall_margin_mm = 3.0;  // floor cells this close to the wall are its foot
   double floor_max_rise_mm = 1.5;  // a larger step from cell to cell is not floor
   uint32_t short_gap_bins = 4;     // a bridge this short is interpolation, not unseen wall
+  // Coarse wall bins with a few points each (the MCU profile, docs/targets.md):
+  // a bin too sparse to fit its slope along the angle borrows it from its
+  // neighbours, and the interval counts what such bins cannot resolve
+  // (Model::coarse_mm3).
+  bool coarse_bins = false;
 };
 
 // Capacities, fixed when the block is laid out.
@@ -94,6 +99,7 @@ struct WallBin {
   uint32_t n_floor;       // of those, on the floor map's floor
   uint8_t state;          // see BinState
   uint8_t gap;            // bridged: length of the bridge, bins (255: long)
+  float atop;             // Params::coarse_bins: angle of top1 from the bin centre, rad
   double sr, sz, szz, srz;  // sums over the surface points (z from the bin centre)
   double sa, saa, sra, sza;  // the same for the angle from the bin centre, rad
 };
@@ -156,6 +162,10 @@ struct Model {
   double floor_x0, floor_y0;  // corner of the floor map
   uint32_t seen_bins, bridged_bins, rejected_bins;
   uint32_t short_gap_bins;  // bridges of at most Params::short_gap_bins count as seen
+  // Params::coarse_bins: volume the seen coarse bins leave uncertain, mm3,
+  // for the interval (surface_model.cpp, coarse_bin): the slope sparse bins
+  // borrowed, and the parts of seen bins no point fell in.
+  double sparse_mm3, subbin_mm3;
 };
 
 enum class Status { Ok, TooFewPoints, NoWall };

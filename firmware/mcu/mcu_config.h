@@ -33,6 +33,10 @@ static inline void pv_mcu_config(pv_config_t *cfg) {
   // the default 1.5 mm band its few points read near its largest radius
   // (ellipses +2.5 %); 3 mm halved that (docs/targets.md, the sweep).
   cfg->surface_band_mm = 3.0f;
+  // Its 10 deg x 12 mm bins hold a few points each: borrowed slopes, the
+  // floor flood at the default's slope and the interval's term for them
+  // (docs/targets.md).
+  cfg->surface_coarse_bins = 1;
 }
 
 #endif

@@ -90,8 +90,9 @@ uint64_t layers_hash(const pv_session_t *s, uint32_t *count_out) {
 }
 
 void print_result(const pv_result_t &r) {
-  printf("# status %s volume_cm3 %.6f depth_mm %.3f layers %u\n", pv_status_name(r.status),
-         r.volume_cm3, r.depth_mm, static_cast<unsigned>(r.layers_used));
+  printf("# status %s volume_cm3 %.6f depth_mm %.3f layers %u interval_cm3 %.6f\n",
+         pv_status_name(r.status), r.volume_cm3, r.depth_mm, static_cast<unsigned>(r.layers_used),
+         r.interval_cm3);
   put_hex("status", static_cast<uint32_t>(r.status), 8);
   put_double("volume_cm3", r.volume_cm3);
   put_double("depth_mm", r.depth_mm);

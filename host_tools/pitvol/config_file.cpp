@@ -50,6 +50,7 @@ const Field kFields[] = {
     {"surface_cell_mm", &pv_config_t::surface_cell_mm, nullptr},
     {"surface_max_radius_mm", &pv_config_t::surface_max_radius_mm, nullptr},
     {"surface_band_mm", &pv_config_t::surface_band_mm, nullptr},
+    {"surface_coarse_bins", nullptr, &pv_config_t::surface_coarse_bins},
 };
 
 std::string trim(const std::string &s) {

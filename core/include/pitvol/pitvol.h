@@ -151,6 +151,12 @@ typedef struct pv_config {
   float surface_max_radius_mm;    /* widest pit around its axis (320) */
   float surface_band_mm;          /* wall surface band behind a bin's largest
                                      radius (1.5; wider for wider bins) */
+  uint32_t surface_coarse_bins;   /* 1: wall bins too coarse for their few
+                                     points (the MCU profile): a sparse bin
+                                     borrows its slope along the angle, the
+                                     floor flood allows the default's slope,
+                                     and the interval counts what the bins
+                                     cannot resolve (docs/targets.md). 0 */
 } pv_config_t;
 
 /* Fills the paper's defaults and the default capacities (docs/method.md). */

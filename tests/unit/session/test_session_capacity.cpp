@@ -78,6 +78,7 @@ void surface_capacities_are_validated(void **) {
       {"surface_cell_mm", [](pv_config_t *c) { c->surface_cell_mm = 0.0f; }},
       {"surface_max_radius_mm", [](pv_config_t *c) { c->surface_max_radius_mm = 1.0e9f; }},
       {"surface_band_mm", [](pv_config_t *c) { c->surface_band_mm = -1.0f; }},
+      {"surface_coarse_bins", [](pv_config_t *c) { c->surface_coarse_bins = 2; }},
   };
   for (const Bad &b : bad) {
     pv_config_t cfg;

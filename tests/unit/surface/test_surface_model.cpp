@@ -1,9 +1,11 @@
 // pv::surface (method "surface") against pits of exactly known volume built
 // from points: cylinder, cone frustum, elliptical cylinder, a bowl (sphere
 // cap), a cylinder with multipath inside, and one with a band of wall
-// removed (bridged, inside the interval).
+// removed (bridged, inside the interval); and with the MCU profile's coarse
+// bins and few points (Params::coarse_bins): an ellipse and a bowl.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <vector>
 
@@ -25,6 +27,7 @@ struct Pit {
   double bowl_radius = 0;       // > 0: the floor is a sphere cap of this radius
   double gap_from = -1, gap_to = -1;  // wall band with no points
   double multipath = 0;         // share of points floating inside
+  double keep_wall = 1, keep_floor = 1;  // share of the points kept (the MCU's few)
   double rw(double th, double z) const {
     if (bowl_radius > 0 && z < bowl_radius) {
       const double R = bowl_radius;
@@ -44,6 +47,7 @@ std::vector<Point> points_of(const Pit &p, uint64_t seed) {
     for (int k = 0; k < 720; ++k) {
       const double th = (k + rng.uniform()) * 2 * kPi / 720;
       double r = p.rw(th, z) + noise * rng.gauss();
+      if (p.keep_wall < 1 && !(rng.uniform() < p.keep_wall)) continue;
       if (z > p.depth) r += 60 * rng.uniform();  // ground ring, above the rim
       const double zz = std::min(z, p.depth) + (z > p.depth ? 0.0 : 0.0);
       v.push_back(Point{r * std::cos(th), r * std::sin(th), zz});
@@ -58,6 +62,7 @@ std::vector<Point> points_of(const Pit &p, uint64_t seed) {
     for (double y = -200; y <= 200; y += 1.0) {
       const double th = std::atan2(y, x), r = std::hypot(x, y);
       double z = noise * rng.gauss();
+      if (p.keep_floor < 1 && !(rng.uniform() < p.keep_floor)) continue;
       if (p.bowl_radius > 0) {
         const double R = p.bowl_radius;
         if (r >= R) continue;
@@ -87,8 +92,9 @@ struct Measured {
   double unseen_share;
 };
 
-Measured measure(std::vector<Point> &pts, double rim_mm) {
-  const pv::surface::Params prm;
+Measured measure(std::vector<Point> &pts, double rim_mm,
+                 const pv::surface::Params &prm = pv::surface::Params{},
+                 pv::surface::Model *model = nullptr) {
   const pv::surface::Capacity cap = pv::surface::capacity_for(prm, 400, 320);
   const size_t bytes = pv::surface::bytes_needed(cap);
   void *mem = std::aligned_alloc(64, (bytes + 63) / 64 * 64);
@@ -100,6 +106,7 @@ Measured measure(std::vector<Point> &pts, double rim_mm) {
                    int(pv::surface::Status::Ok));
   Measured r{pv::surface::integrate(ws, m, prm), 0};
   r.unseen_share = r.v.unseen_mm3 / r.v.volume_mm3;
+  if (model != nullptr) *model = m;
   std::free(mem);
   return r;
 }
@@ -166,6 +173,74 @@ void removed_band_is_bridged_within_interval(void **) {
   assert_true(r.unseen_share > 0.05 && r.unseen_share < 0.25);
 }
 
+// The MCU profile's grids (firmware/mcu/mcu_config.h) and about its point
+// budget: 64 points per 2 mm layer is 32 wall points per mm of height, of
+// the 1440 here; its floor store, some 2,500 points.
+pv::surface::Params coarse_params(bool coarse) {
+  pv::surface::Params prm;
+  prm.theta_bins = 36;
+  prm.dz_mm = 12;
+  prm.cell_mm = 12;
+  prm.band_mm = 3;
+  prm.integrate_dr_mm = 6;
+  prm.coarse_bins = coarse;
+  return prm;
+}
+
+// The interval's part for the coarse bins, as pv_session_finish adds it
+// (core/session/measure_surface.cpp), with the bridge's.
+double coarse_interval(const Measured &r, const pv::surface::Model &m) {
+  const double bridge = std::max(r.v.hi_mm3 - r.v.volume_mm3, r.v.volume_mm3 - r.v.lo_mm3);
+  return bridge + m.sparse_mm3 + m.subbin_mm3;
+}
+
+// A 10 deg bin of an oval wall spans millimetres of radius and its few
+// points lie near its largest: read without the slope along the angle it
+// reads outward (here +1.12 %); with the slope borrowed from the
+// neighbours, near the truth, and the interval's terms for the sparse bins
+// hold the truth.
+void coarse_ellipse_borrows_slope(void **) {
+  Pit p;
+  p.a = 130;
+  p.b = 90;
+  p.keep_wall = 1.0 / 45;
+  p.keep_floor = 1.0 / 12;
+  auto pts = points_of(p, 7);
+  const double truth = kPi * 130 * 90 * p.depth;
+  pv::surface::Model m;
+  const Measured off = measure(pts, p.depth, coarse_params(false));
+  const Measured on = measure(pts, p.depth, coarse_params(true), &m);
+  printf("coarse ellipse: %+.3f %% without, %+.3f %% with the borrowed slope, interval +-%.3f %%\n",
+         100 * (off.v.volume_mm3 / truth - 1), 100 * (on.v.volume_mm3 / truth - 1),
+         100 * coarse_interval(on, m) / on.v.volume_mm3);
+  expect_within(on.v.volume_mm3, truth, 0.004);
+  assert_true(std::fabs(on.v.volume_mm3 - truth) < std::fabs(off.v.volume_mm3 - truth));
+  assert_true(std::fabs(on.v.volume_mm3 - truth) <= coarse_interval(on, m));
+  assert_true(m.sparse_mm3 > 0);  // the sparse bins are counted
+}
+
+// 12 mm floor cells on a bowl's sides rise more than the flood's 1.5 mm a
+// step (set for 2 mm cells): the floor stopped at the bottom and continued
+// flat, reading the bowl high (here +0.37 %). Coarse bins keep the flood's
+// slope (-0.09 %).
+void coarse_bowl_floods_its_sides(void **) {
+  Pit p;
+  p.bowl_radius = 100;
+  p.keep_wall = 1.0 / 45;
+  p.keep_floor = 1.0 / 12;
+  auto pts = points_of(p, 8);
+  const double truth = kPi * 100 * 100 * (p.depth - 100) + 2.0 / 3.0 * kPi * 1e6;
+  pv::surface::Model m;
+  const Measured off = measure(pts, p.depth, coarse_params(false));
+  const Measured on = measure(pts, p.depth, coarse_params(true), &m);
+  printf("coarse bowl: %+.3f %% without, %+.3f %% with coarse bins, interval +-%.3f %%\n",
+         100 * (off.v.volume_mm3 / truth - 1), 100 * (on.v.volume_mm3 / truth - 1),
+         100 * coarse_interval(on, m) / on.v.volume_mm3);
+  expect_within(on.v.volume_mm3, truth, 0.004);
+  assert_true(std::fabs(on.v.volume_mm3 - truth) < std::fabs(off.v.volume_mm3 - truth));
+  assert_true(std::fabs(on.v.volume_mm3 - truth) <= coarse_interval(on, m));
+}
+
 }  // namespace
 
 int main() {
@@ -176,6 +251,8 @@ int main() {
       cmocka_unit_test(bowl_volume_is_exact),
       cmocka_unit_test(multipath_inside_changes_nothing),
       cmocka_unit_test(removed_band_is_bridged_within_interval),
+      cmocka_unit_test(coarse_ellipse_borrows_slope),
+      cmocka_unit_test(coarse_bowl_floods_its_sides),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
