@@ -19,7 +19,7 @@ void HashSample::init(SampleEntry *storage, uint32_t capacity) {
   size_ = 0;
 }
 
-void HashSample::offer(const P3 &p, uint64_t hash) {
+void HashSample::offer_slow(const P3 &p, uint64_t hash) {
   const SampleEntry e{hash, p};
   if (size_ < capacity_) {
     heap_[size_] = e;
