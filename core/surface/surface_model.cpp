@@ -742,33 +742,6 @@ double radius_at(const float *val, const Geo &g, uint32_t t, double z) {
   return (1 - f) * val[size_t(b) * g.T + t] + f * val[size_t(b + 1) * g.T + t];
 }
 
-// radius_at() for every column at one height: where z falls between the
-// bin centres does not depend on the column, so it is found once per
-// integration step (issue 12; the same arithmetic, the same radii).
-struct RadiusRow {
-  size_t lo_off, hi_off;  // offsets of the lower / upper bin row
-  double f;               // weight of the upper row; < 0: the lower row alone
-  RadiusRow(const Geo &g, double z) {
-    const double u = g.per_dz.of(z - g.z0) - 0.5;
-    if (u <= 0) {
-      lo_off = hi_off = 0;
-      f = -1;
-    } else if (u >= g.Z - 1) {
-      lo_off = hi_off = size_t(g.Z - 1) * g.T;
-      f = -1;
-    } else {
-      const auto b = uint32_t(u);
-      f = u - b;
-      lo_off = size_t(b) * g.T;
-      hi_off = size_t(b + 1) * g.T;
-    }
-  }
-  double at(const float *val, uint32_t t) const {
-    if (f < 0) return val[lo_off + t];
-    return (1 - f) * val[lo_off + t] + f * val[hi_off + t];
-  }
-};
-
 // Floor cells at the foot of the wall hold the wall's lowest points, not
 // the floor: the floor next to the wall is hidden from most views, so the
 // flood climbs a cell up the wall and the corner reads millimetres high
@@ -923,6 +896,33 @@ void prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
     }
   }
 }
+
+// radius_at() for every column at one height: where z falls between the
+// bin centres does not depend on the column, so it is found once per
+// integration step (issue 12; the same arithmetic, the same radii).
+struct RadiusRow {
+  size_t lo_off, hi_off;  // offsets of the lower / upper bin row
+  double f;               // weight of the upper row; < 0: the lower row alone
+  RadiusRow(const Geo &g, double z) {
+    const double u = g.per_dz.of(z - g.z0) - 0.5;
+    if (u <= 0) {
+      lo_off = hi_off = 0;
+      f = -1;
+    } else if (u >= g.Z - 1) {
+      lo_off = hi_off = size_t(g.Z - 1) * g.T;
+      f = -1;
+    } else {
+      const auto b = uint32_t(u);
+      f = u - b;
+      lo_off = size_t(b) * g.T;
+      hi_off = size_t(b + 1) * g.T;
+    }
+  }
+  double at(const float *val, uint32_t t) const {
+    if (f < 0) return val[lo_off + t];
+    return (1 - f) * val[lo_off + t] + f * val[hi_off + t];
+  }
+};
 
 // Volume of the wedge of theta bin t below radius R between heights z_a and
 // z_b, above the floor: each ring of the ray counts the part of [z_a, z_b]
