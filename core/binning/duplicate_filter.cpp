@@ -56,12 +56,23 @@ typedef float V4f __attribute__((vector_size(16)));
 typedef int32_t V4i __attribute__((vector_size(16)));
 typedef uint32_t V4u __attribute__((vector_size(16)));
 
+// The lanes 0..2 of a compare mask as bits: OR of (mask & bits) over the
+// lanes (lane 3's bits are 0), two 64-bit halves instead of lane extracts.
+inline uint32_t lane_bits(V4i mask, V4i bits) {
+  const V4i m = mask & bits;
+  uint64_t q[2];
+  std::memcpy(q, &m, sizeof q);
+  const uint64_t r = q[0] | q[1];
+  return uint32_t(r) | uint32_t(r >> 32);
+}
+
 // False for a point the session rejects (so no cell is computed from it).
 bool make_probe(const pv_point_t &pt, Probe *pr) {
   const V4f v0 = {pt.x_mm, pt.y_mm, pt.z_mm, 0.0f};
   const V4f absurd = {kAbsurdMm, kAbsurdMm, kAbsurdMm, kAbsurdMm};
-  const V4i in_range = (v0 < absurd) & (v0 > -absurd);  // |v| < absurd, false for NaN
-  if ((in_range[0] & in_range[1] & in_range[2]) == 0) return false;  // also infinities
+  const V4i axis_bit = {1, 2, 4, 0};
+  // |v| < absurd on every axis; false for NaN and infinities.
+  if (lane_bits((v0 < absurd) & (v0 > -absurd), axis_bit) != 7) return false;
   const V4f v = v0 * DuplicateFilter::kCellPerMm;  // exact: a power of 2
   // floor() for |v| < 2^31 without a libm call: truncate, one down where
   // the truncation went up (negative non-integers).
@@ -69,13 +80,12 @@ bool make_probe(const pv_point_t &pt, Probe *pr) {
   const V4i c = t + (v < __builtin_convertvector(t, V4f));  // true is -1
   // Exact for |v| < 2^24 (16 m); coarser beyond, still in [0, 1].
   const V4f frac = v - __builtin_convertvector(c, V4f);
-  const V4i lo = frac < DuplicateFilter::kNearCells;
-  const V4i hi = frac > 1.0f - DuplicateFilter::kNearCells;
+  const V4i hi_bit = {8, 16, 32, 0};
+  pr->near = uint8_t(lane_bits(frac < DuplicateFilter::kNearCells, axis_bit) |
+                     lane_bits(frac > 1.0f - DuplicateFilter::kNearCells, hi_bit));
   pr->cell.c[0] = c[0];
   pr->cell.c[1] = c[1];
   pr->cell.c[2] = c[2];
-  pr->near_lo = uint8_t((lo[0] & 1) | (lo[1] & 2) | (lo[2] & 4));
-  pr->near_hi = uint8_t((hi[0] & 1) | (hi[1] & 2) | (hi[2] & 4));
   const uint64_t h = block_hash(c[0], c[1], c[2]);
   pr->bucket = bucket_of(h);
   pr->fp_block = fp_block_of(h);
@@ -99,7 +109,9 @@ inline bool DuplicateFilter::contains(uint32_t bucket, uint32_t f) const {
   std::memcpy(w, &buckets_[bucket], sizeof w);
   const V4u fv = {f, f, f, f};
   const V4i hit = (w[0] == fv) | (w[1] == fv) | (w[2] == fv) | (w[3] == fv);
-  return (hit[0] | hit[1] | hit[2] | hit[3]) != 0;
+  uint64_t q[2];
+  std::memcpy(q, &hit, sizeof q);
+  return (q[0] | q[1]) != 0;
 }
 
 inline void DuplicateFilter::insert(uint32_t bucket, uint32_t f) {
@@ -108,36 +120,27 @@ inline void DuplicateFilter::insert(uint32_t bucket, uint32_t f) {
   b.next = b.next + 1 == kWays ? 0 : b.next + 1;
 }
 
-// The own cell first; near a boundary also the neighbour cells within the
-// tolerance (one to seven more lookups, rare): the axes flagged in the
-// probe step by -1 or +1, every combination of them.
-bool DuplicateFilter::check_and_record(const Probe &pr) {
-  if (contains(pr.bucket, pr.fp)) return true;
-  if ((pr.near_lo | pr.near_hi) != 0) {
-    int32_t lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = pr.cell.c[a] - (pr.near_lo >> a & 1);
-      hi[a] = pr.cell.c[a] + (pr.near_hi >> a & 1);
+// Near a boundary, the neighbour cells within the tolerance (one to seven
+// lookups, rare). An axis is near one boundary at most (the tolerance is
+// below half a cell), so the neighbours are the cell moved by -1 or +1 along
+// every non-empty subset of the flagged axes.
+bool DuplicateFilter::neighbour_seen(const Probe &pr) const {
+  const uint32_t axes = (pr.near | pr.near >> 3) & 7u;
+  int32_t step[3];
+  for (int a = 0; a < 3; ++a) step[a] = (pr.near >> a & 1) ? -1 : 1;
+  for (uint32_t sub = axes; sub != 0; sub = (sub - 1) & axes) {
+    const Cell n{{pr.cell.c[0] + ((sub & 1) ? step[0] : 0), pr.cell.c[1] + ((sub & 2) ? step[1] : 0),
+                  pr.cell.c[2] + ((sub & 4) ? step[2] : 0)}};
+    // A neighbour in the same block shares the bucket and the hash.
+    const bool same_block = ((n.c[0] ^ pr.cell.c[0]) | (n.c[1] ^ pr.cell.c[1]) |
+                             (n.c[2] ^ pr.cell.c[2])) >> kBlockShift == 0;
+    if (same_block) {
+      if (contains(pr.bucket, fingerprint_of(pr.fp_block, n))) return true;
+      continue;
     }
-    for (int32_t x = lo[0]; x <= hi[0]; ++x) {
-      for (int32_t y = lo[1]; y <= hi[1]; ++y) {
-        for (int32_t z = lo[2]; z <= hi[2]; ++z) {
-          const Cell n{{x, y, z}};
-          if (x == pr.cell.c[0] && y == pr.cell.c[1] && z == pr.cell.c[2]) continue;
-          // A neighbour in the same block shares the bucket and the hash.
-          const bool same_block = ((x ^ pr.cell.c[0]) | (y ^ pr.cell.c[1]) | (z ^ pr.cell.c[2])) >>
-                                      kBlockShift == 0;
-          if (same_block) {
-            if (contains(pr.bucket, fingerprint_of(pr.fp_block, n))) return true;
-            continue;
-          }
-          const uint64_t h = block_hash(x, y, z);
-          if (contains(bucket_of(h), fingerprint_of(fp_block_of(h), n))) return true;
-        }
-      }
-    }
+    const uint64_t h = block_hash(n.c[0], n.c[1], n.c[2]);
+    if (contains(bucket_of(h), fingerprint_of(fp_block_of(h), n))) return true;
   }
-  insert(pr.bucket, pr.fp);
   return false;
 }
 
@@ -151,9 +154,16 @@ uint64_t DuplicateFilter::filter_batch(const pv_point_t *pts, size_t n, uint64_t
     }
   }
   uint64_t dups = 0;
+  // The own cell first, then (near a boundary) its neighbours; a point
+  // seen in neither is recorded.
   for (uint64_t left = valid; left != 0; left &= left - 1) {
     const int i = __builtin_ctzll(left);
-    if (check_and_record(probes[i])) dups |= uint64_t(1) << i;
+    const Probe &pr = probes[i];
+    if (contains(pr.bucket, pr.fp) || (pr.near != 0 && neighbour_seen(pr))) {
+      dups |= uint64_t(1) << i;
+    } else {
+      insert(pr.bucket, pr.fp);
+    }
   }
   *valid_out = valid;
   return dups;

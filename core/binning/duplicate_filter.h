@@ -56,9 +56,9 @@ class DuplicateFilter {
     uint32_t bucket;
     uint32_t fp;
     uint32_t fp_block;  // the block's part of the fingerprint (20 bits << 12)
-    // Axes (bit a) on which the point lies within the tolerance of its
-    // cell's lower / upper boundary: the neighbour cells to look up.
-    uint8_t near_lo, near_hi;
+    // Axes on which the point lies within the tolerance of its cell's
+    // lower (bit a) / upper (bit a + 3) boundary: the neighbours to look up.
+    uint8_t near;
   };
 
   static size_t bytes_needed() { return size_t(kBuckets) * sizeof(Bucket); }
@@ -85,7 +85,7 @@ class DuplicateFilter {
   };
   static_assert(sizeof(Bucket) == 64, "one bucket, one cache line");
   bool contains(uint32_t bucket, uint32_t fingerprint) const;
-  bool check_and_record(const Probe &probe);
+  bool neighbour_seen(const Probe &probe) const;
   void insert(uint32_t bucket, uint32_t fingerprint);
   Bucket *buckets_ = nullptr;
 };
