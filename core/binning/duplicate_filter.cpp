@@ -56,23 +56,27 @@ typedef float V4f __attribute__((vector_size(16)));
 typedef int32_t V4i __attribute__((vector_size(16)));
 typedef uint32_t V4u __attribute__((vector_size(16)));
 
-// The lanes 0..2 of a compare mask as bits: OR of (mask & bits) over the
-// lanes (lane 3's bits are 0), two 64-bit halves instead of lane extracts.
-inline uint32_t lane_bits(V4i mask, V4i bits) {
-  const V4i m = mask & bits;
+// Bit a set where lane a (0..2) of a compare mask is true. x86-64: one
+// movmskps; elsewhere the OR of (mask & {1, 2, 4, 0}) over two 64-bit halves
+// (no lane extracts). The same bits either way.
+inline uint32_t lane_bits(V4i mask) {
+#if defined(__SSE2__)
+  return uint32_t(__builtin_ia32_movmskps(reinterpret_cast<V4f>(mask))) & 7u;
+#else
+  const V4i m = mask & V4i{1, 2, 4, 0};
   uint64_t q[2];
   std::memcpy(q, &m, sizeof q);
   const uint64_t r = q[0] | q[1];
   return uint32_t(r) | uint32_t(r >> 32);
+#endif
 }
 
 // False for a point the session rejects (so no cell is computed from it).
 bool make_probe(const pv_point_t &pt, Probe *pr) {
   const V4f v0 = {pt.x_mm, pt.y_mm, pt.z_mm, 0.0f};
   const V4f absurd = {kAbsurdMm, kAbsurdMm, kAbsurdMm, kAbsurdMm};
-  const V4i axis_bit = {1, 2, 4, 0};
   // |v| < absurd on every axis; false for NaN and infinities.
-  if (lane_bits((v0 < absurd) & (v0 > -absurd), axis_bit) != 7) return false;
+  if (lane_bits((v0 < absurd) & (v0 > -absurd)) != 7) return false;
   const V4f v = v0 * DuplicateFilter::kCellPerMm;  // exact: a power of 2
   // floor() for |v| < 2^31 without a libm call: truncate, one down where
   // the truncation went up (negative non-integers).
@@ -80,9 +84,8 @@ bool make_probe(const pv_point_t &pt, Probe *pr) {
   const V4i c = t + (v < __builtin_convertvector(t, V4f));  // true is -1
   // Exact for |v| < 2^24 (16 m); coarser beyond, still in [0, 1].
   const V4f frac = v - __builtin_convertvector(c, V4f);
-  const V4i hi_bit = {8, 16, 32, 0};
-  pr->near = uint8_t(lane_bits(frac < DuplicateFilter::kNearCells, axis_bit) |
-                     lane_bits(frac > 1.0f - DuplicateFilter::kNearCells, hi_bit));
+  pr->near = uint8_t(lane_bits(frac < DuplicateFilter::kNearCells) |
+                     lane_bits(frac > 1.0f - DuplicateFilter::kNearCells) << 3);
   pr->cell.c[0] = c[0];
   pr->cell.c[1] = c[1];
   pr->cell.c[2] = c[2];
