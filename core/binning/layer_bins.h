@@ -42,12 +42,6 @@ class LayerBins {
     return insert_full(j, p, hash);
   }
 
-  // Asks for the cache line the next point of bin j would be stored in
-  // (a hint: points arrive in no spatial order, so the store misses).
-  void prefetch(uint32_t j) const {
-    __builtin_prefetch(slots_ + size_t(j) * capacity_ + counts_[j], 1);
-  }
-
   uint32_t layers() const { return layers_; }
   uint32_t capacity() const { return capacity_; }
   uint32_t count(uint32_t j) const { return counts_[j]; }

@@ -232,6 +232,7 @@ extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points
   // one-compare rejection, the provisional layer and the bin store, all
   // inline (issue 12).
   constexpr size_t kBatch = binning::DuplicateFilter::kBatch;
+  static_assert(kBatch == 64, "a batch's masks are 64-bit words");
   const bool filter = s->cfg.duplicate_filter != 0;
   for (size_t base = 0; base < count; base += kBatch) {
     const size_t m = count - base < kBatch ? count - base : kBatch;
@@ -242,7 +243,7 @@ extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points
     } else {
       for (size_t k = 0; k < m; ++k) valid |= uint64_t(session::valid_point(batch[k]) ? 1 : 0) << k;
     }
-    const uint64_t all = m == 64 ? ~uint64_t(0) : (uint64_t(1) << m) - 1;
+    const uint64_t all = m == kBatch ? ~uint64_t(0) : (uint64_t(1) << m) - 1;
     const uint64_t accept = valid & ~duplicate;
     s->points_in += m;
     s->points_invalid += uint64_t(__builtin_popcountll(all & ~valid));
