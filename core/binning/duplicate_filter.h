@@ -56,7 +56,9 @@ class DuplicateFilter {
     uint32_t bucket;
     uint32_t fp;
     uint32_t fp_block;  // the block's part of the fingerprint (20 bits << 12)
-    bool near;  // within the tolerance of a cell boundary on some axis
+    // Axes on which the point lies within the tolerance of its cell's
+    // lower (bit a) / upper (bit a + 3) boundary: the neighbours to look up.
+    uint8_t near;
   };
 
   static size_t bytes_needed() { return size_t(kBuckets) * sizeof(Bucket); }
@@ -68,10 +70,11 @@ class DuplicateFilter {
   // Bit i of the result is set if pts[i] repeats a point of the window or
   // an earlier point of the batch (drop it); the other points are recorded.
   // n <= kBatch. Points that are not finite or beyond 1e6 mm are skipped
-  // (bit clear, not recorded): the caller rejects them. A batch first
+  // (bit clear, not recorded): the caller rejects them; *valid gets bit i
+  // set for the others (the session's validity check). A batch first
   // computes every point's bucket and asks for its cache line, then looks
   // them up: the table's cache misses overlap instead of stalling in turn.
-  uint64_t filter_batch(const pv_point_t *pts, size_t n);
+  uint64_t filter_batch(const pv_point_t *pts, size_t n, uint64_t *valid);
   // One point (tests): true if it is a duplicate.
   bool seen_before(const P3 &p);
 
@@ -82,7 +85,7 @@ class DuplicateFilter {
   };
   static_assert(sizeof(Bucket) == 64, "one bucket, one cache line");
   bool contains(uint32_t bucket, uint32_t fingerprint) const;
-  bool check_and_record(const Probe &probe, const float *xyz_mm);
+  bool neighbour_seen(const Probe &probe) const;
   void insert(uint32_t bucket, uint32_t fingerprint);
   Bucket *buckets_ = nullptr;
 };

@@ -30,7 +30,8 @@ void LayerBins::clear() {
   thinned_ = 0;
 }
 
-bool LayerBins::insert(uint32_t j, const P3 &p, uint64_t hash) {
+// A full bin: halve it (raise its level) until the point is rejected or fits.
+bool LayerBins::insert_full(uint32_t j, const P3 &p, uint64_t hash) {
   while (true) {
     if (!passes(hash, levels_[j])) {
       ++thinned_;

@@ -26,7 +26,21 @@ class LayerBins {
 
   // Stores p in bin j (j < layers()). Returns false if the bin's level
   // rejects it (it was thinned away) — not an error.
-  bool insert(uint32_t j, const P3 &p, uint64_t hash);
+  // The common case (the level passes, the bin has room) is inline: it is
+  // on the ingest path of every point (issue 12).
+  bool insert(uint32_t j, const P3 &p, uint64_t hash) {
+    if (!passes(hash, levels_[j])) {
+      ++thinned_;
+      return false;
+    }
+    uint32_t &c = counts_[j];
+    if (c < capacity_) {
+      slots_[size_t(j) * capacity_ + c++] = p;
+      ++stored_;
+      return true;
+    }
+    return insert_full(j, p, hash);
+  }
 
   uint32_t layers() const { return layers_; }
   uint32_t capacity() const { return capacity_; }
@@ -41,6 +55,7 @@ class LayerBins {
   }
 
  private:
+  bool insert_full(uint32_t j, const P3 &p, uint64_t hash);
   void raise_level(uint32_t j);
   P3 *slots_ = nullptr;
   uint32_t *counts_ = nullptr;

@@ -25,14 +25,19 @@ class HashSample {
   void init(SampleEntry *storage, uint32_t capacity);
   void clear() { size_ = 0; }
   // O(1) when the point is rejected (the common case once the sample is
-  // full), O(log k) when it enters.
-  void offer(const P3 &p, uint64_t hash);
+  // full), O(log k) when it enters. The rejection, a hash above the largest
+  // kept one, is inline: one compare per pushed point (issue 12).
+  void offer(const P3 &p, uint64_t hash) {
+    if (size_ == capacity_ && capacity_ > 0 && hash > heap_[0].hash) return;
+    offer_slow(p, hash);
+  }
   uint32_t size() const { return size_; }
   // Copies the sample into out (capacity() entries) sorted by (hash, bits).
   void canonical(SampleEntry *out) const;
   uint32_t capacity() const { return capacity_; }
 
  private:
+  void offer_slow(const P3 &p, uint64_t hash);
   void sift_down(uint32_t i);
   void sift_up(uint32_t i);
   SampleEntry *heap_ = nullptr;  // max-heap on hash

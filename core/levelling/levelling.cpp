@@ -97,7 +97,7 @@ bool converge(const Eigen::Vector3d *a, size_t n, const Params &p, const RansacP
       if (s.b[i].z() < z_th) s.c[m++] = s.b[i];
     }
     report->candidates = uint32_t(m);
-    if (m < 3 || ransac_plane(s.c, m, rp, &plane) < 3) return false;
+    if (m < 3 || ransac_plane(s.c, m, rp, &plane, s.v, n) < 3) return false;
     refine_plane(s.c, m, rp.tol_mm, &plane);
     const uint32_t used = refine_plane(s.c, m, p.refine_tol_mm, &plane);
     if (used < 3) return false;
@@ -187,7 +187,7 @@ Status estimate(const P3 *pts, size_t n, const Params &p, const Scratch &s,
     if (s.b[i].z() < z_th) s.c[z_count++] = s.b[i];
   }
   Plane flat;  // horizontal by construction after the last rotation
-  if (ransac_plane(s.c, z_count, rp, &flat) < 3) return Status::NoPlane;
+  if (ransac_plane(s.c, z_count, rp, &flat, s.v, n) < 3) return Status::NoPlane;
   refine_plane(s.c, z_count, rp.tol_mm, &flat);
   refine_plane(s.c, z_count, p.refine_tol_mm, &flat);
   z_count = 0;

@@ -25,8 +25,12 @@ struct RansacParams {
 // Best plane through three of the points by inlier count (ties: the first
 // found, so the outcome is deterministic). Returns the inlier count, 0 if
 // fewer than 3 points or every triple was degenerate.
+// soa: optional scratch of soa_cap doubles; with 3 n of them the points are
+// counted from a copy by coordinate (x..., y..., z...), a loop without
+// shuffles (issue 12), with the same arithmetic: the same planes.
 uint32_t ransac_plane(const Eigen::Vector3d *pts, size_t n,
-                      const RansacParams &p, Plane *out);
+                      const RansacParams &p, Plane *out, double *soa = nullptr,
+                      size_t soa_cap = 0);
 
 // Total least squares plane (smallest eigenvector of the covariance) of the
 // points within tol_mm of *plane; replaces *plane. Returns the number of

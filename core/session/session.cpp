@@ -226,23 +226,30 @@ extern "C" pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size
 extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points, size_t count) {
   if (s == nullptr || (points == nullptr && count > 0)) return PV_ERR_INVALID_ARGUMENT;
   if (s->finished) return PV_ERR_WRONG_STATE;
-  // The duplicate filter works on small batches (its table lookups overlap).
+  // Per batch of kBatch points: validity and the duplicate filter first (the
+  // filter's table lookups overlap), as bit masks, then the accepted points
+  // in order. The per-point work after that is the hash, the sample's
+  // one-compare rejection, the provisional layer and the bin store, all
+  // inline (issue 12).
   constexpr size_t kBatch = binning::DuplicateFilter::kBatch;
+  static_assert(kBatch == 64, "a batch's masks are 64-bit words");
+  const bool filter = s->cfg.duplicate_filter != 0;
   for (size_t base = 0; base < count; base += kBatch) {
     const size_t m = count - base < kBatch ? count - base : kBatch;
-    const uint64_t duplicate =
-        s->cfg.duplicate_filter != 0 ? s->duplicates.filter_batch(points + base, m) : 0;
-    for (size_t k = 0; k < m; ++k) {
-      const pv_point_t &q = points[base + k];
-      ++s->points_in;
-      if (!session::valid_point(q)) {
-        ++s->points_invalid;
-        continue;
-      }
-      if (duplicate >> k & 1) {
-        ++s->points_duplicate;
-        continue;
-      }
+    const pv_point_t *batch = points + base;
+    uint64_t valid = 0, duplicate = 0;
+    if (filter) {
+      duplicate = s->duplicates.filter_batch(batch, m, &valid);
+    } else {
+      for (size_t k = 0; k < m; ++k) valid |= uint64_t(session::valid_point(batch[k]) ? 1 : 0) << k;
+    }
+    const uint64_t all = m == kBatch ? ~uint64_t(0) : (uint64_t(1) << m) - 1;
+    const uint64_t accept = valid & ~duplicate;
+    s->points_in += m;
+    s->points_invalid += uint64_t(__builtin_popcountll(all & ~valid));
+    s->points_duplicate += uint64_t(__builtin_popcountll(valid & duplicate));
+    for (uint64_t left = accept; left != 0; left &= left - 1) {
+      const pv_point_t &q = batch[__builtin_ctzll(left)];
       ++s->points_accepted;
       const P3 p{q.x_mm, q.y_mm, q.z_mm};
       const uint64_t h = point_hash(p);

@@ -1027,6 +1027,33 @@ void prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
   }
 }
 
+// radius_at() for every column at one height: where z falls between the
+// bin centres does not depend on the column, so it is found once per
+// integration step (issue 12; the same arithmetic, the same radii).
+struct RadiusRow {
+  size_t lo_off, hi_off;  // offsets of the lower / upper bin row
+  double f;               // weight of the upper row; < 0: the lower row alone
+  RadiusRow(const Geo &g, double z) {
+    const double u = g.per_dz.of(z - g.z0) - 0.5;
+    if (u <= 0) {
+      lo_off = hi_off = 0;
+      f = -1;
+    } else if (u >= g.Z - 1) {
+      lo_off = hi_off = size_t(g.Z - 1) * g.T;
+      f = -1;
+    } else {
+      const auto b = uint32_t(u);
+      f = u - b;
+      lo_off = size_t(b) * g.T;
+      hi_off = size_t(b + 1) * g.T;
+    }
+  }
+  double at(const float *val, uint32_t t) const {
+    if (f < 0) return val[lo_off + t];
+    return (1 - f) * val[lo_off + t] + f * val[hi_off + t];
+  }
+};
+
 // Volume of the wedge of theta bin t below radius R between heights z_a and
 // z_b, above the floor: each ring of the ray counts the part of [z_a, z_b]
 // above its floor height, so the floor is integrated exactly, not at the
@@ -1039,7 +1066,10 @@ double wedge_volume(const Workspace &ws, const Params &p, uint32_t t, double R, 
   if (z_b <= double(ray_low)) return 0.0;
   const uint32_t K = ws.cap.ray_steps;
   const double dr = p.integrate_dr_mm;
-  auto nk = uint32_t(std::ceil(R / dr));
+  // ceil() without a libm call, of a positive value capped at K.
+  const double rk = std::min(R / dr, double(K));
+  auto nk = uint32_t(rk);
+  if (double(nk) < rk) ++nk;
   if (nk > K) nk = K;
   if (nk == 0) return 0.0;
   const float *fl = ws.ray_floor + size_t(t) * K;
@@ -1082,10 +1112,11 @@ Volume integrate(const Workspace &ws, const Model &m, const Params &p, Profile *
     double step[3] = {0, 0, 0};
     uint32_t known_bins = 0;
     const auto zb = uint32_t(std::min<double>(g.Z - 1, std::max(0.0, (zm - g.z0) / g.dz)));
+    const RadiusRow row(g, zm);
     for (uint32_t t = 0; t < g.T; ++t) {
-      const double r0 = radius_at(ws.wall_val, g, t, zm);
-      const double r1 = radius_at(ws.wall_lo, g, t, zm);
-      const double r2 = radius_at(ws.wall_hi, g, t, zm);
+      const double r0 = row.at(ws.wall_val, t);
+      const double r1 = row.at(ws.wall_lo, t);
+      const double r2 = row.at(ws.wall_hi, t);
       const double dv = wedge_volume(ws, p, t, r0, z, z + h, dth, ray_low[t]);
       step[0] += dv;
       step[1] += r1 == r0 ? dv : wedge_volume(ws, p, t, r1, z, z + h, dth, ray_low[t]);
