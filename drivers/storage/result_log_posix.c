@@ -23,6 +23,7 @@
 #define FLOOR_NAME "floor.pvlog"
 #define FLOOR_TMP_NAME "floor.pvlog.tmp"
 #define FLOOR_MAGIC 0x31465650u
+#define PV_LOG_SEQ_LIMIT 0x80000000u
 
 static void put_u32(uint8_t *p, uint32_t v) {
   p[0] = (uint8_t)v;
@@ -237,13 +238,13 @@ static void note_lost_records(pv_log_t *log, int fd, off_t at, off_t size, uint8
       const off_t off = base + (off_t)i;
       const size_t len = read_record(fd, off, size, rec, cap);
       if (len == 0) continue;
-      /* The damaged record is at most number last_seq + 1 and every record
-       * takes at least PV_LOG_RECORD_BYTES(0): a number beyond that is not
-       * one this log wrote (garbage that happens to check), and is ignored
-       * rather than allowed to push the numbering far ahead. */
+      /* Numbers from 2^31 on are never reached by a log (some 4000 results
+       * a MiB): such a record is forged or garbage that happens to check,
+       * and is ignored rather than allowed to wrap the numbering. The
+       * damaged record's own number is unknown (an earlier segment may be
+       * gone, or rotated away), so no tighter bound is sound. */
       const uint32_t seq = get_u32(rec + 4);
-      const uint64_t most = (uint64_t)log->last_seq + 1u + (uint64_t)(off - at) / PV_LOG_RECORD_BYTES(0);
-      if (seq > log->last_seq && seq <= most) {
+      if (seq > log->last_seq && seq < PV_LOG_SEQ_LIMIT) {
         log->recovery.records_lost++;
         if (seq > log->seq_floor) log->seq_floor = seq;
       }

@@ -155,8 +155,9 @@ void damaged_record_never_gives_its_number_again(void **) {
 }
 
 // Garbage behind a torn tail that happens to check as a record (here made
-// on purpose: magic, number 1,000,000, CRC right) must not push the
-// numbering ahead: the next result is 4 after 3 kept.
+// on purpose: magic, a number past 2^31 that no log reaches, CRC right)
+// must not move the numbering towards a wrap: the next result is 4 after 3
+// kept.
 void checking_garbage_does_not_move_the_numbers(void **) {
   const std::string dir = make_temp_dir();
   assert_false(dir.empty());
@@ -169,7 +170,7 @@ void checking_garbage_does_not_move_the_numbers(void **) {
   pv_log_close(&log);
   Bytes seg = read_file(seg_path(dir, 1));
   seg.push_back(0xEE);  // a torn byte
-  const uint32_t fake[3] = {PV_LOG_RECORD_MAGIC, 1000000u, 0u};  // little-endian host
+  const uint32_t fake[3] = {PV_LOG_RECORD_MAGIC, 0x90000000u, 0u};  // little-endian host
   Bytes rec(reinterpret_cast<const uint8_t *>(fake), reinterpret_cast<const uint8_t *>(fake) + 12);
   const uint32_t crc = pv_crc32c(0, rec.data(), rec.size());
   rec.insert(rec.end(), reinterpret_cast<const uint8_t *>(&crc), reinterpret_cast<const uint8_t *>(&crc) + 4);
