@@ -18,7 +18,6 @@ static_assert(DuplicateFilter::kBuckets == 1u << kBucketBits, "bucket index is t
 // neighbour cells almost always share its bucket, so a lookup near a cell
 // boundary still reads the cache line already loaded.
 constexpr int kBlockShift = 4;
-constexpr float kAbsurdMm = 1.0e6f;  // as the session's validity check
 
 // 21 bits per axis in one word, one mix: cells alias only 2^21 cells
 // (2 m) apart, and then also need the same bucket to be confused.

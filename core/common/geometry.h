@@ -15,6 +15,11 @@ struct XY {
   double y_mm;
 };
 
+// A coordinate this far out (a kilometre) is no scanner's: the point is
+// invalid, as NaN and infinities are (the session's validity check and the
+// duplicate filter's, which must agree).
+constexpr float kAbsurdMm = 1.0e6f;
+
 // A stored point, raw scanner frame (millimetres); same layout as pv_point_t.
 struct P3 {
   float x_mm;

@@ -145,7 +145,9 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, double rim_area_mm2,
     return refuse(PV_PIT_CHECK_POINTS_INSIDE, inside_share, kMaxInsideShare);
   }
   const double mouth = max_section_mm2 > 0 ? rim_area_mm2 / max_section_mm2 : 0.0;
-  if (!(rim_area_mm2 >= kMinMouthRatio * max_section_mm2)) return refuse(PV_PIT_CHECK_NARROW_MOUTH, mouth, kMinMouthRatio);
+  if (!(rim_area_mm2 >= kMinMouthRatio * max_section_mm2)) {
+    return refuse(PV_PIT_CHECK_NARROW_MOUTH, mouth, kMinMouthRatio);
+  }
   // The wall reaches the edge of the grids: wider than the capacity.
   const double widest = max_radius_mm - 5.0;
   if (occ.max_radius_mm > widest) return refuse(PV_PIT_CHECK_TOO_WIDE, occ.max_radius_mm, widest);

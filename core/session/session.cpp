@@ -15,8 +15,6 @@ namespace pv::session {
 
 namespace {
 
-constexpr float kAbsurdMm = 1.0e6f;  // a kilometre: no scanner sees that far
-
 bool valid_point(const pv_point_t &p) {
   return std::isfinite(p.x_mm) && std::isfinite(p.y_mm) && std::isfinite(p.z_mm) &&
          std::fabs(p.x_mm) < kAbsurdMm && std::fabs(p.y_mm) < kAbsurdMm &&

@@ -389,7 +389,7 @@ void widen_bands_on_slopes(Workspace &ws, const Geo &g, const Params &p) {
 // itself. A largest radius lies on the wall within the noise (multipath is
 // inside it), at an angle known to the point, so two of them give the slope
 // without a fit. 0 where neither neighbour has points.
-constexpr double kMaxThetaSlope = 300.0;  // mm per rad, as bin_value's clamp
+constexpr double kMaxThetaSlope = 300.0;  // mm per rad: |dr/dtheta| <= 3 r at r = 100
 
 void theta_slopes(const Workspace &ws, const Geo &g, float *slope, float *spread) {
   const double dth = 2 * kPi / g.T;
@@ -459,7 +459,7 @@ float bin_value(const WallBin &b, bool borrow = false, double slope_a = 0.0) {
   }
   if (borrow && !use_a) ba = slope_a;
   bz = std::clamp(bz, -3.0, 3.0);
-  ba = std::clamp(ba, -300.0, 300.0);  // mm per rad: |dr/dtheta| <= 3 r at r = 100
+  ba = std::clamp(ba, -kMaxThetaSlope, kMaxThetaSlope);
   return float(mr - bz * mz - ba * ma);
 }
 
@@ -664,8 +664,6 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
   }
 }
 
-constexpr double kDefaultCellMm = 2.0;  // Params::cell_mm's default
-
 // The floor is the surface connected to the lowest cells without a step:
 // flood from them, accepting a neighbour that rises at most max_rise_mm
 // (any descent is accepted). Multipath floating above the floor, block tops
@@ -699,7 +697,7 @@ void flood_floor(Workspace &ws, const Geo &g, const Params &p) {
   // same slope as the default 2 mm cells: 12 mm cells stopped the flood on
   // a bowl's sides, whose floor then continued flat from the bottom (+0.5
   // to +1 %).
-  const float rise = float(p.coarse_bins ? p.floor_max_rise_mm * g.cell / kDefaultCellMm
+  const float rise = float(p.coarse_bins ? p.floor_max_rise_mm * g.cell / Params{}.cell_mm
                                          : p.floor_max_rise_mm);
   while (head < tail) {
     const uint32_t i = ws.queue[head++];
@@ -816,14 +814,36 @@ void fill_floor(Workspace &ws, const Geo &g) {
   for (size_t q = 0; q < queued; ++q) ws.floor[ws.queue[q]].value = 0.0f;
 }
 
-// R of column t at height z: linear between bin centres.
+// R at height z, linear between bin centres, for any column: where z falls
+// between the centres does not depend on the column, so the integration
+// finds it once per step (issue 12).
+struct RadiusRow {
+  size_t lo_off, hi_off;  // offsets of the lower / upper bin row
+  double f;               // weight of the upper row; < 0: the lower row alone
+  RadiusRow(const Geo &g, double z) {
+    const double u = g.per_dz.of(z - g.z0) - 0.5;
+    if (u <= 0) {
+      lo_off = hi_off = 0;
+      f = -1;
+    } else if (u >= g.Z - 1) {
+      lo_off = hi_off = size_t(g.Z - 1) * g.T;
+      f = -1;
+    } else {
+      const auto b = uint32_t(u);
+      f = u - b;
+      lo_off = size_t(b) * g.T;
+      hi_off = size_t(b + 1) * g.T;
+    }
+  }
+  double at(const float *val, uint32_t t) const {
+    if (f < 0) return val[lo_off + t];
+    return (1 - f) * val[lo_off + t] + f * val[hi_off + t];
+  }
+};
+
+// R of column t at height z.
 double radius_at(const float *val, const Geo &g, uint32_t t, double z) {
-  double u = g.per_dz.of(z - g.z0) - 0.5;
-  if (u <= 0) return val[t];
-  if (u >= g.Z - 1) return val[size_t(g.Z - 1) * g.T + t];
-  const auto b = uint32_t(u);
-  const double f = u - b;
-  return (1 - f) * val[size_t(b) * g.T + t] + f * val[size_t(b + 1) * g.T + t];
+  return RadiusRow(g, z).at(val, t);
 }
 
 // Floor cells at the foot of the wall hold the wall's lowest points, not
@@ -1027,32 +1047,6 @@ void prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
   }
 }
 
-// radius_at() for every column at one height: where z falls between the
-// bin centres does not depend on the column, so it is found once per
-// integration step (issue 12; the same arithmetic, the same radii).
-struct RadiusRow {
-  size_t lo_off, hi_off;  // offsets of the lower / upper bin row
-  double f;               // weight of the upper row; < 0: the lower row alone
-  RadiusRow(const Geo &g, double z) {
-    const double u = g.per_dz.of(z - g.z0) - 0.5;
-    if (u <= 0) {
-      lo_off = hi_off = 0;
-      f = -1;
-    } else if (u >= g.Z - 1) {
-      lo_off = hi_off = size_t(g.Z - 1) * g.T;
-      f = -1;
-    } else {
-      const auto b = uint32_t(u);
-      f = u - b;
-      lo_off = size_t(b) * g.T;
-      hi_off = size_t(b + 1) * g.T;
-    }
-  }
-  double at(const float *val, uint32_t t) const {
-    if (f < 0) return val[lo_off + t];
-    return (1 - f) * val[lo_off + t] + f * val[hi_off + t];
-  }
-};
 
 // Volume of the wedge of theta bin t below radius R between heights z_a and
 // z_b, above the floor: each ring of the ray counts the part of [z_a, z_b]

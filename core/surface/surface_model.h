@@ -60,7 +60,7 @@ struct Params {
   // Coarse wall bins with a few points each (the MCU profile, docs/targets.md):
   // a bin too sparse to fit its slope along the angle borrows it from its
   // neighbours, and the interval counts what such bins cannot resolve
-  // (Model::coarse_mm3).
+  // (Model::sparse_mm3, subbin_mm3).
   bool coarse_bins = false;
 };
 
