@@ -83,6 +83,33 @@ uint64_t assign_layers(pv_session *s, const levelling::Transform &t) {
   return outside;
 }
 
+// The number of stored points outside the grid under t, as assign_layers()
+// counts them (the same layer_of() test on the same level_z()), for method
+// surface, which needs nothing else of the final layers when its rim comes
+// from the ground ring or the rim plane: a fifth of the cost of the two
+// per-layer sums (issue 12). layer_of(z) is outside exactly when
+// z / layer_mm + 0.5 is not in [-below, layers - below) (floor of a value
+// against an integer bound); with a power-of-two layer (the default
+// 0.5 mm) the division is a product by an exact reciprocal: the same bits.
+uint64_t count_outside(const pv_session *s, const levelling::Transform &t) {
+  const gridding::Grid &g = s->grid;
+  const double lo = -double(g.below), hi = double(g.layers - g.below);
+  int e = 0;
+  const bool exact = std::frexp(g.layer_mm, &e) == 0.5;
+  const double inv = 1.0 / g.layer_mm;
+  uint64_t outside = 0;
+  for (uint32_t b = 0; b < g.layers; ++b) {
+    const P3 *pts = s->bins.points(b);
+    const uint32_t n = s->bins.count(b);
+    for (uint32_t i = 0; i < n; ++i) {
+      const double z = t.level_z(pts[i]);
+      const double v = (exact ? z * inv : z / g.layer_mm) + 0.5;
+      outside += (v >= lo && v < hi) ? 0 : 1;
+    }
+  }
+  return outside;
+}
+
 // Levelled XY of the points of final layer j, at most the work capacity.
 // A layer with more points keeps those passing the lowest sufficient hash
 // level: a deterministic, order-independent subset.
@@ -155,15 +182,16 @@ LayerOutcome process_layer(pv_session *s, size_t n) {
   return o;
 }
 
-double rim_height(pv_session *s, const levelling::Transform &t, bool *ground) {
+// The rim from the ground ring (the peak of the sample's heights), if the
+// scan has one.
+bool ground_rim(pv_session *s, const levelling::Transform &t, double *rim_mm) {
   const uint32_t n = s->sample.size();
   for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t.apply(s->sample_points[i]);
   rim::Params rp;
   rp.band_ratio = s->cfg.rim_band_ratio;
   const rim::Ground g = rim::detect_ground(s->lv.a, n, rp, s->lv.v);
-  *ground = g.found;
-  if (g.found) return g.z_mm;
-  return rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
+  if (g.found) *rim_mm = g.z_mm;
+  return g.found;
 }
 
 // Coverage per height band for the per-layer methods: the share of a band's
@@ -209,13 +237,19 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
   // Method surface levels on the ground or the rim plane (level_surface.cpp).
   double surface_rim_mm = -1.0;
   if (s->cfg.method == PV_METHOD_SURFACE) surface_rim_mm = level_for_surface(s, &t);
-  const uint64_t outside = assign_layers(s, t);
+  // The rim: the rim plane (method surface without a ground ring), else
+  // the ground ring, else the top of the wall over the final layers.
+  double rim_mm = surface_rim_mm;
+  const bool have_rim = surface_rim_mm > 0 || ground_rim(s, t, &rim_mm);
+  // The final layers serve the per-layer methods and the wall top; method
+  // surface with a rim needs only how many points fall outside them.
+  const bool layers_needed = s->cfg.method != PV_METHOD_SURFACE || !have_rim;
+  const uint64_t outside = layers_needed ? assign_layers(s, t) : count_outside(s, t);
+  if (!have_rim) rim_mm = rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
   out->points_out_of_range = s->points_out_of_range + outside;
   out->points_stored = s->bins.stored() - outside;
   if (out->points_out_of_range * 100 > s->points_in) out->warnings |= PV_WARN_OUT_OF_RANGE;
 
-  bool ground = false;
-  const double rim_mm = surface_rim_mm > 0 ? surface_rim_mm : rim_height(s, t, &ground);
   if (!(rim_mm > 4 * kEndGuardMm)) return fail(PV_ERR_NO_RIM);
   if (rim_mm > s->grid.top_mm() - 2 * kEndGuardMm) return fail(PV_ERR_DEPTH_EXCEEDS_CAPACITY);
   out->depth_mm = rim_mm;
