@@ -2,6 +2,7 @@
 #include "board_link.h"
 
 #include "board_clock.h"
+#include "board_refusal.h"
 
 #include <errno.h>
 #include <poll.h>
@@ -350,6 +351,7 @@ static void on_result(pv_board_link_t *bl) {
     r->interval_cm3 = res->interval_cm3;
     r->depth_mm = res->depth_mm;
   }
+  pv_board_result_refusal(r, md->result_status, res);
   r->warnings = res->warnings;
   r->unseen_share = res->unseen_share;
   r->points_in = res->points_in;

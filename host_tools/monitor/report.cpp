@@ -10,6 +10,7 @@
 
 #include "pitvol/pitvol.h"
 #include "pitvol/json_writer.h"
+#include "pitvol/result_report.h"
 
 namespace pv::monitor {
 
@@ -48,6 +49,29 @@ std::string utc(uint64_t t) {
 
 std::string status_name(int32_t code) {
   return pv_status_name(pv_status_t(code));
+}
+
+bool refused_by_check(const pitvol_Result &r) {
+  return r.status == PV_ERR_NOT_A_PIT && r.failed_check != PV_PIT_CHECK_NONE;
+}
+bool wall_gap(const pitvol_Result &r) { return r.status == PV_ERR_WALL_GAP; }
+
+// Why there is no volume, in the words pitvol measure uses (its
+// check_figures(), on the fields the board sent).
+std::string refusal_text(const pitvol_Result &r) {
+  if (refused_by_check(r)) {
+    pv_result_t pr{};
+    pr.failed_check = r.failed_check;
+    pr.check_value = r.check_value;
+    pr.check_limit = r.check_limit;
+    return std::string(" (") + pv_pit_check_name(r.failed_check) + ": " +
+           pv::tools::check_figures(pr) + ")";
+  }
+  if (wall_gap(r)) {
+    return " (no usable outline from " + fmt("%.1f", r.gap_from_mm) + " to " +
+           fmt("%.1f", r.gap_to_mm) + " mm above the bottom)";
+  }
+  return "";
 }
 
 void density_json(JsonObject &o, const pitvol_Result &r) {
@@ -130,7 +154,7 @@ std::string status_json(const pitvol_Status &s) {
 
 std::string result_text(const pitvol_Result &r) {
   std::string t = "result   #" + std::to_string(r.id) + " " + utc(r.time_unix_s) + " ";
-  if (r.status != 0) return t + "no measurement: " + status_name(r.status);
+  if (r.status != 0) return t + "no measurement: " + status_name(r.status) + refusal_text(r);
   t += r.method;
   t += ", volume " + fmt("%.1f", r.volume_cm3) + " +/- " + fmt("%.1f", r.interval_cm3) +
        " cm3, depth " + fmt("%.1f", r.depth_mm) + " mm";
@@ -169,6 +193,14 @@ std::string result_json(const pitvol_Result &r) {
   }
   o.integer("warnings", r.warnings).num("unseen_share", r.unseen_share)
       .integer("points_in", r.points_in).integer("points_used", r.points_used);
+  // As pitvol measure --json: the check that refused a PV_ERR_NOT_A_PIT with
+  // its figures, the band of a PV_ERR_WALL_GAP.
+  if (refused_by_check(r)) {
+    o.str("failed_check", pv_pit_check_name(r.failed_check))
+        .num("check_value", r.check_value)
+        .num("check_limit", r.check_limit);
+  }
+  if (wall_gap(r)) o.num("gap_from_mm", r.gap_from_mm).num("gap_to_mm", r.gap_to_mm);
   density_json(o, r);
   return o.text();
 }
@@ -187,7 +219,8 @@ std::string result_csv_header() {
   return "id,time_unix_s,status,method,volume_cm3,interval_cm3,depth_mm,warnings,unseen_share,"
          "points_in,points_used,density_flags,mass_g,moisture_percent,wet_kg_m3,wet_low_kg_m3,"
          "wet_high_kg_m3,dry_kg_m3,dry_low_kg_m3,dry_high_kg_m3,reference_max_dry_kg_m3,"
-         "compaction_percent,compaction_low_percent,compaction_high_percent";
+         "compaction_percent,compaction_low_percent,compaction_high_percent,failed_check,"
+         "check_value,check_limit,gap_from_mm,gap_to_mm";
 }
 
 std::string result_csv_row(const pitvol_Result &r) {
@@ -209,6 +242,11 @@ std::string result_csv_row(const pitvol_Result &r) {
          num(dry, d.dry_kg_m3) + "," + num(dry, d.dry_low_kg_m3) + "," + num(dry && !open, d.dry_high_kg_m3) +
          "," + num(rc, d.reference_max_dry_kg_m3) + "," + num(rc, d.compaction_percent) + "," +
          num(rc, d.compaction_low_percent) + "," + num(rc && !open, d.compaction_high_percent);
+  // The refusal's detail (empty where it does not apply), as in the JSON.
+  const bool by_check = refused_by_check(r), gap = wall_gap(r);
+  row += std::string(",") + (by_check ? pv_pit_check_name(r.failed_check) : "") + "," +
+         num(by_check, r.check_value) + "," + num(by_check, r.check_limit) + "," +
+         num(gap, r.gap_from_mm) + "," + num(gap, r.gap_to_mm);
   return row;
 }
 

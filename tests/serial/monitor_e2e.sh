@@ -125,6 +125,38 @@ grep -q '"type": "result", "id": 1, .*"status": "PV_ERR_[A-Z_]*", .*"volume_cm3"
   || fail "failed scan: no result with an error status ($(cat "$work/bad.json"))"
 grep -q '"type": "error", "code": [1-9][0-9]*, "name": "PV_ERR_' "$work/bad.json" || fail "failed scan: no Error"
 
+# 4b. Not a pit (a closed sphere shell, radius 150 mm, on a golden-angle
+# spiral): the result names the plausibility check that refused it, with the
+# figure it measured and its limit, the same bits as pitvol measure --json
+# on the same file; in the watch text, the JSON and the CSV.
+awk 'BEGIN { n = 60000; for (i = 0; i < n; i++) { z = 1 - 2 * (i + 0.5) / n; r = sqrt(1 - z * z);
+  t = 2.39996322972865332 * i; printf "%.4f %.4f %.4f\n", 150 * r * cos(t), 150 * r * sin(t), 150 * z } }' \
+  >"$work/sphere.xyz"
+"$pitvol" measure "$work/sphere.xyz" --json >"$work/sphere-cli.json" 2>/dev/null && fail "pitvol measure measured a sphere"
+field() { sed -n "s/.*\"$1\": \([^,}]*\).*/\1/p" "$2"; }
+want_value=$(field check_value "$work/sphere-cli.json") want_limit=$(field check_limit "$work/sphere-cli.json")
+grep -q '"failed_check": "PV_PIT_CHECK_NARROW_MOUTH"' "$work/sphere-cli.json" \
+  || fail "pitvol measure: the sphere not refused by the mouth check ($(cat "$work/sphere-cli.json"))"
+start_device sphere --scan "$work/sphere.xyz"
+printf 'start\nstop\n' | mon "$work/sphere-port" watch --json --count 1 --seconds 60 >"$work/sphere.json" \
+  || fail "sphere watch"
+grep '"type": "result"' "$work/sphere.json" >"$work/sphere-result.json" || fail "sphere: no result"
+grep -q '"status": "PV_ERR_NOT_A_PIT", .*"volume_cm3": null, .*"failed_check": "PV_PIT_CHECK_NARROW_MOUTH"' \
+  "$work/sphere-result.json" || fail "sphere: result without its check ($(cat "$work/sphere-result.json"))"
+[ "$(field check_value "$work/sphere-result.json")" = "$want_value" ] \
+  && [ "$(field check_limit "$work/sphere-result.json")" = "$want_limit" ] \
+  || fail "sphere: figures $(field check_value "$work/sphere-result.json") / $(field check_limit "$work/sphere-result.json"), pitvol measure $want_value / $want_limit"
+mon "$work/sphere-port" fetch >"$work/sphere.csv" 2>/dev/null || fail "sphere fetch csv"
+head -1 "$work/sphere.csv" | grep -q ',failed_check,check_value,check_limit,gap_from_mm,gap_to_mm$' \
+  || fail "CSV header without the refusal columns"
+tail -1 "$work/sphere.csv" | grep -q ",PV_PIT_CHECK_NARROW_MOUTH,[0-9.e-]*,0.5,,$" \
+  || fail "sphere: CSV row $(tail -1 "$work/sphere.csv")"
+printf 'start\nstop\n' | mon "$work/sphere-port" watch --count 1 --seconds 60 >"$work/sphere.txt" \
+  || fail "sphere watch (text)"
+grep -q "no measurement: PV_ERR_NOT_A_PIT (PV_PIT_CHECK_NARROW_MOUTH: rim section / widest section [0-9.]* (an open pit: at least 0.50))" \
+  "$work/sphere.txt" || fail "sphere: text without its check ($(cat "$work/sphere.txt"))"
+echo "sphere: refused by the mouth check, figure $want_value (limit $want_limit) as pitvol measure"
+
 # 5. A board whose clock was never set (1970, no RTC): its results carry
 # time 0, which the monitor shows as clock-not-set, not as a 1970 date.
 start_device noclock --preload 2 --clock 0

@@ -33,6 +33,7 @@
 #include <pb_encode.h>
 
 #include "board_clock.h"
+#include "board_refusal.h"
 #include "pitvol/density.h"
 #include "pitvol/link.h"
 #include "pitvol/pitvol.h"
@@ -144,6 +145,7 @@ pitvol_Result make_result(Device &d, uint32_t id, const pv_result_t &r, const ch
   out.unseen_share = r.unseen_share;
   out.points_in = r.points_in;
   out.points_used = r.points_used;
+  pv_board_result_refusal(&out, r.status, &r);
   if (r.status == PV_OK) {
     pv_density_input_t in{};
     in.volume_cm3 = r.volume_cm3;
