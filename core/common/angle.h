@@ -1,4 +1,4 @@
-// The polar angle of a point, in [0, 2 pi), without libm.
+// The polar angle of a point, in [0, 2 pi), and the arc cosine, without libm.
 //
 // Why not std::atan2: libm's atan2 is not guaranteed to round alike on
 // x86-64, aarch64 and newlib (the M7): the same-bits tests only showed it
@@ -58,6 +58,15 @@ inline double angle_2pi(double y, double x) {
   double a = steep ? kPiOver2 - t : t;
   a = x < 0.0 ? kPi - a : a;
   return y < 0.0 ? kTwoPi - a : a;
+}
+
+// acos(c) in [0, pi] for c in [-1, 1], without libm: the angle of
+// (c, sin), the sine as sqrt((1 - c)(1 + c)) (1 - c is exact near c = 1,
+// where 1 - c * c would cancel: small angles keep their relative accuracy).
+// For the levelling's tilt and its convergence test (levelling.cpp).
+inline double angle_of_cos(double c) {
+  c = c < -1.0 ? -1.0 : (c > 1.0 ? 1.0 : c);
+  return angle_2pi(std::sqrt((1.0 - c) * (1.0 + c)), c);
 }
 
 }  // namespace pv

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/angle.h"
 #include "levelling/plane_fit.h"
 #include "levelling/rodrigues.h"
 
@@ -52,11 +53,17 @@ size_t axis_count(const Eigen::Vector3d *pts, size_t n, double z_from, double z_
   }
   cx /= double(n);
   cy /= double(n);
-  for (size_t i = 0; i < n; ++i) v[i] = std::hypot(pts[i].x() - cx, pts[i].y() - cy);
+  // The radius by a square root (IEEE: rounded alike everywhere), not
+  // std::hypot, a libm function that need not round alike on every target.
+  const auto radius = [&](size_t i) {
+    const double dx = pts[i].x() - cx, dy = pts[i].y() - cy;
+    return std::sqrt(dx * dx + dy * dy);
+  };
+  for (size_t i = 0; i < n; ++i) v[i] = radius(i);
   const double r_near = 0.5 * quantile(v, n, 0.5);
   size_t count = 0;
   for (size_t i = 0; i < n; ++i) {
-    const double r = std::hypot(pts[i].x() - cx, pts[i].y() - cy);
+    const double r = radius(i);
     count += pts[i].z() >= z_from && pts[i].z() <= z_to && r < r_near;
   }
   return count;
@@ -76,8 +83,7 @@ Eigen::Matrix3d half_turn_x() {
 }  // namespace
 
 double Transform::tilt_deg() const {
-  const double c = std::clamp(R(2, 2), -1.0, 1.0);
-  return std::acos(c) * 180.0 / kPi;
+  return angle_of_cos(R(2, 2)) * 180.0 / kPi;
 }
 
 namespace {
@@ -109,7 +115,7 @@ bool converge(const Eigen::Vector3d *a, size_t n, const Params &p, const RansacP
       plane.n = -plane.n;
       plane.d = -plane.d;
     }
-    const double moved_deg = std::acos(std::clamp(plane.n.z(), -1.0, 1.0)) * 180.0 / kPi;
+    const double moved_deg = angle_of_cos(plane.n.z()) * 180.0 / kPi;
     *R = rotation_onto_z(plane.n) * *R;
     report->rounds = round + 1;
     if (round > 0 && moved_deg < 1e-4) break;

@@ -1,8 +1,10 @@
 // The libm-free angles of the surface model and the rim plane against
 // libm's atan2, sin and cos (independent truth): pv::surface::AngleBins
-// (theta bins, bin centres, angle from a centre) and pv::angle_2pi.
+// (theta bins, bin centres, angle from a centre), pv::angle_2pi and
+// pv::angle_of_cos (against acos).
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 
 #include "common/angle.h"
 #include "surface/angle_bins.h"
@@ -108,6 +110,27 @@ void angle_2pi_matches_atan2(void **) {
   assert_true(std::fabs(pv::angle_2pi(-1.0, 0.0) - 1.5 * kPi) < 1e-15);
 }
 
+// acos without libm: against std::acos over [-1, 1], densest near +-1
+// where the angle is small (the levelling's convergence test compares tilts
+// of 1e-4 deg) and relative accuracy is what matters.
+void angle_of_cos_matches_acos(void **) {
+  double worst_abs = 0, worst_rel = 0;
+  for (int i = 0; i <= 200000; ++i) {
+    const double u = -1.0 + 2.0 * i / 200000.0;
+    for (double c : {u, 1.0 - std::ldexp(1.0, -(i % 52) - 1), -1.0 + std::ldexp(1.0, -(i % 52) - 1)}) {
+      const double got = pv::angle_of_cos(c), want = std::acos(c);
+      assert_true(got >= 0 && got <= kPi);
+      worst_abs = std::fmax(worst_abs, std::fabs(got - want));
+      if (want > 0) worst_rel = std::fmax(worst_rel, std::fabs(got - want) / want);
+    }
+  }
+  assert_true(worst_abs <= 2 * 4.5e-16);  // 2 ulp of pi
+  assert_true(worst_rel <= 1e-15);        // small angles too
+  assert_true(pv::angle_of_cos(1.0) == 0.0);
+  assert_true(pv::angle_of_cos(-1.0) == kPi);
+  assert_true(pv::angle_of_cos(1.5) == 0.0);  // clamped, as the callers did
+}
+
 }  // namespace
 
 int main() {
@@ -116,6 +139,7 @@ int main() {
       cmocka_unit_test(bins_match_atan2),
       cmocka_unit_test(from_centre_matches_atan2),
       cmocka_unit_test(angle_2pi_matches_atan2),
+      cmocka_unit_test(angle_of_cos_matches_acos),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
