@@ -61,8 +61,10 @@ class LayerBins {
   uint64_t stored() const { return stored_; }
   uint64_t thinned() const { return thinned_; }  // dropped by bin levels
 
+  // The top `level` bits of the hash are zero (level 0: every hash), as
+  // one shift by 63 - level of hash >> 1: no branch on level 0.
   static bool passes(uint64_t hash, uint8_t level) {
-    return level == 0 || (hash >> (64 - level)) == 0;
+    return ((hash >> 1) >> (63 - level)) == 0;
   }
   // The highest level a hash passes: its leading zero bits (64 for 0).
   // passes(hash, level) is rank(hash) >= level.

@@ -128,11 +128,12 @@ struct pv_session {
   // Points that arrived before the first plane.
   pv::P3 *warmup;
   uint32_t warmup_count;
+  uint32_t floor_layers;  // method surface: provisional layers below this go
+                          // to floor_bins (0: none); beside warmup_count, no padding
 
   pv::gridding::Grid grid;
   pv::binning::LayerBins bins;
   pv::binning::LayerBins floor_bins;  // method surface: one bin for the floor band
-  uint32_t floor_layers;              // provisional layers below this go there (0: none)
 
   // Finish-time scratch (bounded, inside the block).
   uint32_t *order;        // slot ids sorted by final layer
