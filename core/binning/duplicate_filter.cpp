@@ -232,12 +232,27 @@ uint64_t DuplicateFilter::filter_batch(const pv_point_t *pts, size_t n, uint64_t
     const int i = __builtin_ctzll(left);
     bool seen = contains(pr.bucket[i], pr.fp[i]);
     if (!seen && pr.near[i] != 0) {
-      const Probe q{{{pr.cell[0][i], pr.cell[1][i], pr.cell[2][i]}},
-                    pr.bucket[i],
-                    pr.fp[i],
-                    pr.fp_block[i],
-                    uint8_t(pr.near[i])};
-      seen = neighbour_seen(q);
+      // Most points near a boundary are near one (94 %), and their
+      // neighbour is in the same block (15 in 16): the same bucket, its
+      // place one step along that axis. That case inline, as
+      // neighbour_seen() would look it up; the others there.
+      const uint32_t nr = uint32_t(pr.near[i]);
+      const uint32_t axes = (nr | nr >> 3) & 7u;
+      const uint32_t shift = 4u * uint32_t(__builtin_ctz(axes));  // the axis's place nibble
+      const uint32_t at_axis = pr.place[i] >> shift & 15u;
+      const bool down = (nr & 7u) != 0;  // the lower boundary: the cell below
+      if ((axes & (axes - 1)) == 0 && (down ? at_axis != 0 : at_axis != 15)) {
+        const uint32_t own = pr.fp_block[i] | pr.place[i];
+        const uint32_t f = down ? own - (1u << shift) : own + (1u << shift);
+        seen = contains(pr.bucket[i], f < 16 ? f + 16 : f);  // as fingerprint_of()
+      } else {
+        const Probe q{{{pr.cell[0][i], pr.cell[1][i], pr.cell[2][i]}},
+                      pr.bucket[i],
+                      pr.fp[i],
+                      pr.fp_block[i],
+                      uint8_t(nr)};
+        seen = neighbour_seen(q);
+      }
     }
     if (seen) {
       dups |= uint64_t(1) << i;
