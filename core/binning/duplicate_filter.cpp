@@ -47,22 +47,25 @@ uint32_t fingerprint_of(uint32_t fp_block, const Cell &k) {
   return f < 16 ? f + 16 : f;
 }
 
-// The three coordinates in one 4-lane vector (GCC/Clang vector extensions:
-// SSE2 on x86-64, NEON on aarch64, scalar code on Cortex-M7; the same IEEE
-// single-precision operations as one axis at a time, so the same cells).
-// Issue 12: the per-axis scalar code was most of the filter's cost.
+// Four points' coordinates of one axis in a 4-lane vector (GCC/Clang vector
+// extensions: SSE2 on x86-64, NEON on aarch64, scalar code on Cortex-M7;
+// the same IEEE single-precision operations as one point at a time, so the
+// same cells). Issue 12: the per-axis scalar code was most of the filter's
+// cost.
 typedef float V4f __attribute__((vector_size(16)));
 typedef int32_t V4i __attribute__((vector_size(16)));
 typedef uint32_t V4u __attribute__((vector_size(16)));
+// A bucket's words read as vectors (may alias the uint32_t array).
+typedef uint32_t V4uLine __attribute__((vector_size(16), may_alias));
 
-// Bit a set where lane a (0..2) of a compare mask is true. x86-64: one
-// movmskps; elsewhere the OR of (mask & {1, 2, 4, 0}) over two 64-bit halves
+// Bit k set where lane k (0..3) of a compare mask is true. x86-64: one
+// movmskps; elsewhere the OR of (mask & {1, 2, 4, 8}) over two 64-bit halves
 // (no lane extracts). The same bits either way.
-inline uint32_t lane_bits(V4i mask) {
+inline uint32_t lane_bits4(V4i mask) {
 #if defined(__SSE2__)
-  return uint32_t(__builtin_ia32_movmskps(reinterpret_cast<V4f>(mask))) & 7u;
+  return uint32_t(__builtin_ia32_movmskps(reinterpret_cast<V4f>(mask)));
 #else
-  const V4i m = mask & V4i{1, 2, 4, 0};
+  const V4i m = mask & V4i{1, 2, 4, 8};
   uint64_t q[2];
   std::memcpy(q, &m, sizeof q);
   const uint64_t r = q[0] | q[1];
@@ -70,29 +73,84 @@ inline uint32_t lane_bits(V4i mask) {
 #endif
 }
 
-// False for a point the session rejects (so no cell is computed from it).
-bool make_probe(const pv_point_t &pt, Probe *pr) {
-  const V4f v0 = {pt.x_mm, pt.y_mm, pt.z_mm, 0.0f};
+// Two-vector shuffle (GCC and Clang spell it differently).
+#if defined(__clang__)
+#define PV_SHUFFLE(a, b, i0, i1, i2, i3) __builtin_shufflevector(a, b, i0, i1, i2, i3)
+#else
+#define PV_SHUFFLE(a, b, i0, i1, i2, i3) __builtin_shuffle(a, b, V4i{i0, i1, i2, i3})
+#endif
+
+// A batch's probes, one array per field (vectors store into them whole).
+struct Probes {
+  alignas(16) int32_t cell[3][DuplicateFilter::kBatch];
+  alignas(16) int32_t near[DuplicateFilter::kBatch];
+  alignas(16) uint32_t lo[DuplicateFilter::kBatch];     // pack21() of the block,
+  alignas(16) uint32_t hi[DuplicateFilter::kBatch];     // as two 32-bit halves
+  alignas(16) uint32_t place[DuplicateFilter::kBatch];  // the cell's in its block
+  uint32_t bucket[DuplicateFilter::kBatch];
+  uint32_t fp[DuplicateFilter::kBatch];
+  uint32_t fp_block[DuplicateFilter::kBatch];
+};
+
+// The cells, near bits and block keys of points at..at+3 of a batch, one
+// axis of four points per vector (issue 12: one point's three axes per
+// vector left a quarter of each vector idle and paid a mask extraction per
+// point). Every lane does what the one-point code did, in the same IEEE
+// single-precision operations, so the same cells and near bits. Returns
+// bit k set where point k is valid (|coordinate| < kAbsurdMm on every axis:
+// false for NaN and infinities); an invalid point's lanes are computed from
+// zeros and not used.
+uint32_t make_probes4(const pv_point_t *pt, Probes *pr, size_t at) {
+  static_assert(sizeof(pv_point_t) == 3 * sizeof(float), "points are packed xyz");
+  V4f a, b, c;  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
+  std::memcpy(&a, &pt[0], sizeof a);
+  std::memcpy(&b, reinterpret_cast<const unsigned char *>(pt) + 16, sizeof b);
+  std::memcpy(&c, reinterpret_cast<const unsigned char *>(pt) + 32, sizeof c);
+  // The transpose in shuffles that take two lanes of each input (one
+  // shufps each on x86-64).
+  const V4f x = PV_SHUFFLE(a, PV_SHUFFLE(b, c, 2, 2, 5, 5), 0, 3, 4, 6);
+  const V4f y = PV_SHUFFLE(PV_SHUFFLE(a, b, 1, 1, 4, 4), PV_SHUFFLE(b, c, 3, 3, 6, 6), 0, 2, 4, 6);
+  const V4f z = PV_SHUFFLE(PV_SHUFFLE(a, b, 2, 2, 5, 5), c, 0, 2, 4, 7);
+  // |v| < absurd, as v < absurd && v > -absurd: false for NaN.
+  const V4i abs_mask = {0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff};
   const V4f absurd = {kAbsurdMm, kAbsurdMm, kAbsurdMm, kAbsurdMm};
-  // |v| < absurd on every axis; false for NaN and infinities.
-  if (lane_bits((v0 < absurd) & (v0 > -absurd)) != 7) return false;
-  const V4f v = v0 * DuplicateFilter::kCellPerMm;  // exact: a power of 2
-  // floor() for |v| < 2^31 without a libm call: truncate, one down where
-  // the truncation went up (negative non-integers).
-  const V4i t = __builtin_convertvector(v, V4i);
-  const V4i c = t + (v < __builtin_convertvector(t, V4f));  // true is -1
-  // Exact for |v| < 2^24 (16 m); coarser beyond, still in [0, 1].
-  const V4f frac = v - __builtin_convertvector(c, V4f);
-  pr->near = uint8_t(lane_bits(frac < DuplicateFilter::kNearCells) |
-                     lane_bits(frac > 1.0f - DuplicateFilter::kNearCells) << 3);
-  pr->cell.c[0] = c[0];
-  pr->cell.c[1] = c[1];
-  pr->cell.c[2] = c[2];
-  const uint64_t h = block_hash(c[0], c[1], c[2]);
-  pr->bucket = bucket_of(h);
-  pr->fp_block = fp_block_of(h);
-  pr->fp = fingerprint_of(pr->fp_block, pr->cell);
-  return true;
+  const V4i ok = (reinterpret_cast<V4f>(reinterpret_cast<V4i>(x) & abs_mask) < absurd) &
+                 (reinterpret_cast<V4f>(reinterpret_cast<V4i>(y) & abs_mask) < absurd) &
+                 (reinterpret_cast<V4f>(reinterpret_cast<V4i>(z) & abs_mask) < absurd);
+  const uint32_t valid = lane_bits4(ok);
+  V4i cell[3];
+  V4i near = {0, 0, 0, 0};
+  const V4f axes[3] = {x, y, z};
+  for (int k = 0; k < 3; ++k) {
+    // An invalid lane is zeroed: no conversion of NaN or out-of-range values.
+    const V4f v = reinterpret_cast<V4f>(reinterpret_cast<V4i>(axes[k]) & ok) *
+                  DuplicateFilter::kCellPerMm;  // exact: a power of 2
+    // floor() for |v| < 2^31 without a libm call: truncate, one down where
+    // the truncation went up (negative non-integers).
+    const V4i t = __builtin_convertvector(v, V4i);
+    cell[k] = t + (v < __builtin_convertvector(t, V4f));  // true is -1
+    // Exact for |v| < 2^24 (16 m); coarser beyond, still in [0, 1].
+    const V4f frac = v - __builtin_convertvector(cell[k], V4f);
+    near |= ((frac < DuplicateFilter::kNearCells) & (1 << k)) |
+            ((frac > 1.0f - DuplicateFilter::kNearCells) & (8 << k));
+    std::memcpy(&pr->cell[k][at], &cell[k], sizeof cell[k]);
+  }
+  std::memcpy(&pr->near[at], &near, sizeof near);
+  // pack21() of the blocks (cells >> 4, arithmetic: floor division) as two
+  // 32-bit halves, and the cells' places in their blocks (fingerprint_of()).
+  constexpr uint32_t m21 = (1u << 21) - 1;
+  const V4u bx = reinterpret_cast<V4u>(cell[0] >> kBlockShift) & m21;
+  const V4u by = reinterpret_cast<V4u>(cell[1] >> kBlockShift) & m21;
+  const V4u bz = reinterpret_cast<V4u>(cell[2] >> kBlockShift) & m21;
+  const V4u lo = bx | by << 21;
+  const V4u hi = by >> 11 | bz << 10;
+  constexpr int32_t m4 = (1 << kBlockShift) - 1;
+  const V4u place =
+      reinterpret_cast<V4u>((cell[0] & m4) | (cell[1] & m4) << 4 | (cell[2] & m4) << 8);
+  std::memcpy(&pr->lo[at], &lo, sizeof lo);
+  std::memcpy(&pr->hi[at], &hi, sizeof hi);
+  std::memcpy(&pr->place[at], &place, sizeof place);
+  return valid;
 }
 
 }  // namespace
@@ -107,13 +165,12 @@ void DuplicateFilter::clear() { std::memset(buckets_, 0, bytes_needed()); }
 inline bool DuplicateFilter::contains(uint32_t bucket, uint32_t f) const {
   // All 16 words of the line, cursor included (fingerprints are >= 16 and
   // the cursor < 15): four vector compares, no branch.
-  V4u w[4];
-  std::memcpy(w, &buckets_[bucket], sizeof w);
+  // The line is 64-byte aligned: aligned vector loads, which x86-64 folds
+  // into the compares (issue 12: unaligned copies and a reduction through
+  // general registers were half of a lookup's instructions).
+  const V4uLine *w = reinterpret_cast<const V4uLine *>(&buckets_[bucket]);
   const V4u fv = {f, f, f, f};
-  const V4i hit = (w[0] == fv) | (w[1] == fv) | (w[2] == fv) | (w[3] == fv);
-  uint64_t q[2];
-  std::memcpy(q, &hit, sizeof q);
-  return (q[0] | q[1]) != 0;
+  return lane_bits4((w[0] == fv) | (w[1] == fv) | (w[2] == fv) | (w[3] == fv)) != 0;
 }
 
 inline void DuplicateFilter::insert(uint32_t bucket, uint32_t f) {
@@ -147,24 +204,60 @@ bool DuplicateFilter::neighbour_seen(const Probe &pr) const {
 }
 
 uint64_t DuplicateFilter::filter_batch(const pv_point_t *pts, size_t n, uint64_t *valid_out) {
-  Probe probes[kBatch];
+  Probes pr;
   uint64_t valid = 0;
-  for (size_t i = 0; i < n; ++i) {
-    if (make_probe(pts[i], &probes[i])) {
-      valid |= uint64_t(1) << i;
-      __builtin_prefetch(&buckets_[probes[i].bucket]);
-    }
+  size_t at = 0;
+  for (; at + 4 <= n; at += 4) valid |= uint64_t(make_probes4(pts + at, &pr, at)) << at;
+  if (at < n) {  // the last one to three points, padded with zeros
+    pv_point_t tail[4] = {};
+    std::memcpy(tail, pts + at, (n - at) * sizeof *pts);
+    const uint32_t v = make_probes4(tail, &pr, at) & ((1u << (n - at)) - 1);
+    valid |= uint64_t(v) << at;
+  }
+  // Each valid point's block hash, bucket and fingerprint (as block_hash(),
+  // bucket_of(), fingerprint_of()); ask for the bucket's line.
+  for (uint64_t left = valid; left != 0; left &= left - 1) {
+    const int i = __builtin_ctzll(left);
+    const uint64_t h = mix64(uint64_t(pr.hi[i]) << 32 | pr.lo[i]);
+    pr.bucket[i] = bucket_of(h);
+    pr.fp_block[i] = fp_block_of(h);
+    const uint32_t f = pr.fp_block[i] | pr.place[i];
+    pr.fp[i] = f < 16 ? f + 16 : f;
+    __builtin_prefetch(&buckets_[pr.bucket[i]]);
   }
   uint64_t dups = 0;
   // The own cell first, then (near a boundary) its neighbours; a point
   // seen in neither is recorded.
   for (uint64_t left = valid; left != 0; left &= left - 1) {
     const int i = __builtin_ctzll(left);
-    const Probe &pr = probes[i];
-    if (contains(pr.bucket, pr.fp) || (pr.near != 0 && neighbour_seen(pr))) {
+    bool seen = contains(pr.bucket[i], pr.fp[i]);
+    if (!seen && pr.near[i] != 0) {
+      // Most points near a boundary are near one (94 %), and their
+      // neighbour is in the same block (15 in 16): the same bucket, its
+      // place one step along that axis. That case inline, as
+      // neighbour_seen() would look it up; the others there.
+      const uint32_t nr = uint32_t(pr.near[i]);
+      const uint32_t axes = (nr | nr >> 3) & 7u;
+      const uint32_t shift = 4u * uint32_t(__builtin_ctz(axes));  // the axis's place nibble
+      const uint32_t at_axis = pr.place[i] >> shift & 15u;
+      const bool down = (nr & 7u) != 0;  // the lower boundary: the cell below
+      if ((axes & (axes - 1)) == 0 && (down ? at_axis != 0 : at_axis != 15)) {
+        const uint32_t own = pr.fp_block[i] | pr.place[i];
+        const uint32_t f = down ? own - (1u << shift) : own + (1u << shift);
+        seen = contains(pr.bucket[i], f < 16 ? f + 16 : f);  // as fingerprint_of()
+      } else {
+        const Probe q{{{pr.cell[0][i], pr.cell[1][i], pr.cell[2][i]}},
+                      pr.bucket[i],
+                      pr.fp[i],
+                      pr.fp_block[i],
+                      uint8_t(nr)};
+        seen = neighbour_seen(q);
+      }
+    }
+    if (seen) {
       dups |= uint64_t(1) << i;
     } else {
-      insert(pr.bucket, pr.fp);
+      insert(pr.bucket[i], pr.fp[i]);
     }
   }
   *valid_out = valid;

@@ -16,7 +16,7 @@ static bool entry_less(const SampleEntry &a, const SampleEntry &b) {
 void HashSample::init(SampleEntry *storage, uint32_t capacity) {
   heap_ = storage;
   capacity_ = capacity;
-  size_ = 0;
+  clear();
 }
 
 void HashSample::offer_slow(const P3 &p, uint64_t hash) {
@@ -24,6 +24,7 @@ void HashSample::offer_slow(const P3 &p, uint64_t hash) {
   if (size_ < capacity_) {
     heap_[size_] = e;
     sift_up(size_++);
+    if (size_ == capacity_) reject_above_ = heap_[0].hash;
     return;
   }
   if (capacity_ == 0 || !entry_less(e, heap_[0])) return;
@@ -32,6 +33,7 @@ void HashSample::offer_slow(const P3 &p, uint64_t hash) {
   // function of the multiset of points pushed.
   heap_[0] = e;
   sift_down(0);
+  reject_above_ = heap_[0].hash;
 }
 
 // Both sifts move a hole instead of swapping (one copy per level, not

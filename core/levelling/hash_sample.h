@@ -23,12 +23,15 @@ class HashSample {
  public:
   // storage: caller memory for capacity entries.
   void init(SampleEntry *storage, uint32_t capacity);
-  void clear() { size_ = 0; }
+  void clear() {
+    size_ = 0;
+    reject_above_ = ~uint64_t(0);
+  }
   // O(1) when the point is rejected (the common case once the sample is
   // full), O(log k) when it enters. The rejection, a hash above the largest
   // kept one, is inline: one compare per pushed point (issue 12).
   void offer(const P3 &p, uint64_t hash) {
-    if (size_ == capacity_ && capacity_ > 0 && hash > heap_[0].hash) return;
+    if (hash > reject_above_) return;
     offer_slow(p, hash);
   }
   uint32_t size() const { return size_; }
@@ -41,6 +44,10 @@ class HashSample {
   void sift_down(uint32_t i);
   void sift_up(uint32_t i);
   SampleEntry *heap_ = nullptr;  // max-heap on hash
+  // The largest kept hash once the sample is full, else the largest hash
+  // (nothing rejected): the inline test is one compare with no loads of the
+  // heap (issue 12).
+  uint64_t reject_above_ = ~uint64_t(0);
   uint32_t capacity_ = 0;
   uint32_t size_ = 0;
 };

@@ -83,6 +83,8 @@ void establish_transform(pv_session *s) {
 // Stored points from which the surface model keeps each point's theta bin
 // between its passes even where that grows the block.
 constexpr size_t kThetaCacheMinPoints = 100000;
+// Stored points (slots) from which the bins keep their points' ranks.
+constexpr size_t kRanksMinPoints = 100000;
 
 size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   Carver cv(block);
@@ -98,8 +100,16 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
     void *dup_mem = cv.take<uint64_t>(binning::DuplicateFilter::bytes_needed() / sizeof(uint64_t));
     if (block != nullptr) o->duplicates.init(dup_mem);
   }
-  void *bins_mem = cv.take<unsigned char>(binning::LayerBins::bytes_needed(layers, c.points_per_layer));
-  if (block != nullptr) o->bins.init(bins_mem, layers, c.points_per_layer);
+  // The bins keep their points' ranks (one byte a slot: a full bin thins
+  // without hashing its points again, issue 12) in a configuration that
+  // stores many points (the default: 1.4 MB, 4.5 % of its block); a small
+  // one (the MCU profile, whose every byte counts) hashes again.
+  const size_t slots = size_t(layers) * c.points_per_layer +
+                       (c.method == PV_METHOD_SURFACE ? c.surface_floor_points : 0);
+  const bool ranks = slots >= kRanksMinPoints;
+  void *bins_mem =
+      cv.take<unsigned char>(binning::LayerBins::bytes_needed(layers, c.points_per_layer, ranks));
+  if (block != nullptr) o->bins.init(bins_mem, layers, c.points_per_layer, ranks);
   o->layer_start = cv.take<uint32_t>(layers + 1);
   o->layer_weight = cv.take<double>(layers);
   o->seq_z = cv.take<double>(layers);
@@ -110,8 +120,8 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->layer_info = cv.take<pv_layer_info_t>(layers);
   if (c.method == PV_METHOD_SURFACE) {
     void *floor_mem =
-        cv.take<unsigned char>(binning::LayerBins::bytes_needed(1, c.surface_floor_points));
-    if (block != nullptr) o->floor_bins.init(floor_mem, 1, c.surface_floor_points);
+        cv.take<unsigned char>(binning::LayerBins::bytes_needed(1, c.surface_floor_points, ranks));
+    if (block != nullptr) o->floor_bins.init(floor_mem, 1, c.surface_floor_points, ranks);
   }
 
   // Scratch: the levelling's, the warm-up buffer (empty once a transform

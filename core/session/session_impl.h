@@ -101,6 +101,11 @@ inline size_t sequence_scratch_doubles(size_t layers) {
 struct pv_session {
   pv_config_t cfg;
   bool finished;
+  bool estimating;  // measure() runs for pv_session_estimate (a live figure)
+  // Levelling: a provisional transform exists; it came from a successful fit.
+  // (The flags sit together: padding between fields is block bytes.)
+  bool have_transform;
+  bool have_fit;
 
   uint64_t points_in;
   uint64_t points_invalid;
@@ -118,18 +123,17 @@ struct pv_session {
   pv::levelling::Scratch lv;
   pv::levelling::Transform provisional;
   pv::gridding::LayerMap provisional_map;  // provisional, folded for push()
-  bool have_transform;
-  bool have_fit;  // the provisional transform came from a successful fit
   uint64_t next_refine_at;
 
   // Points that arrived before the first plane.
   pv::P3 *warmup;
   uint32_t warmup_count;
+  uint32_t floor_layers;  // method surface: provisional layers below this go
+                          // to floor_bins (0: none); beside warmup_count, no padding
 
   pv::gridding::Grid grid;
   pv::binning::LayerBins bins;
   pv::binning::LayerBins floor_bins;  // method surface: one bin for the floor band
-  uint32_t floor_layers;              // provisional layers below this go there (0: none)
 
   // Finish-time scratch (bounded, inside the block).
   uint32_t *order;        // slot ids sorted by final layer
@@ -153,7 +157,6 @@ struct pv_session {
   pv::surface::Workspace surf;  // method surface only (else empty)
   uint8_t *theta_cache;   // method surface: each stored point's theta bin between passes
   size_t theta_cache_cap; // entries (stored points: bins and floor store)
-  bool estimating;  // measure() runs for pv_session_estimate (a live figure)
 };
 
 namespace pv::session {

@@ -68,6 +68,29 @@ void near_exact_across_a_cell_boundary(void **) {
   assert_true(f.f.seen_before(P3{edge + 0.00002f, 5.0f, 7.0f}));
 }
 
+// The same on each axis, from either side, at a boundary inside a block of
+// 16 cells (the neighbour shares the bucket) and at a block's boundary (it
+// does not), the other axes far from any boundary; a point in the cell
+// after next is another point.
+void near_exact_across_a_boundary_on_each_axis(void **) {
+  const float edges[2] = {100.0f + 3.0f / 128.0f, 100.0f + 16.0f / 128.0f};  // cell 12803, 12816
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const float edge : edges) {
+      for (int below_first = 0; below_first < 2; ++below_first) {
+        Filter f;
+        P3 below{5.3f, -7.3f, 11.3f}, above = below, far = below;  // 0.4 of a cell from edges
+        float *b = &below.x_mm + axis, *a = &above.x_mm + axis, *o = &far.x_mm + axis;
+        *b = edge - 0.00003f;
+        *a = edge + 0.00002f;
+        *o = edge + 1.3f / 128.0f;  // the next cell but one, far from its boundaries
+        assert_false(f.f.seen_before(below_first ? below : above));
+        assert_true(f.f.seen_before(below_first ? above : below));
+        assert_false(f.f.seen_before(far));
+      }
+    }
+  }
+}
+
 // Points 20 um apart on one axis are distinct (above the cell and the
 // tolerance): none is dropped.
 void close_but_distinct_points_are_kept(void **) {
@@ -107,6 +130,7 @@ int main() {
       cmocka_unit_test(minus_zero_is_zero),
       cmocka_unit_test(near_exact_repeats_are_dropped),
       cmocka_unit_test(near_exact_across_a_cell_boundary),
+      cmocka_unit_test(near_exact_across_a_boundary_on_each_axis),
       cmocka_unit_test(close_but_distinct_points_are_kept),
       cmocka_unit_test(the_window_remembers_recent_and_forgets_old_points),
       cmocka_unit_test(clear_forgets_everything),

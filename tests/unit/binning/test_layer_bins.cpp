@@ -54,6 +54,43 @@ void kept_points_do_not_depend_on_order(void **) {
   assert_true(hashes_in(a, 0) == hashes_in(b, 0));
 }
 
+// Ranks (one byte a slot) only spare the hashing: the same points in the
+// same order, in every bin, as bins that hash again.
+void ranks_keep_the_same_points_in_the_same_order(void **) {
+  std::vector<unsigned char> m1(pv::binning::LayerBins::bytes_needed(3, 64));
+  std::vector<unsigned char> m2(pv::binning::LayerBins::bytes_needed(3, 64, true));
+  assert_int_equal(m2.size() - m1.size(), 3 * 64);
+  pv::binning::LayerBins a, b;
+  a.init(m1.data(), 3, 64);
+  b.init(m2.data(), 3, 64, true);
+  assert_false(a.has_ranks());
+  assert_true(b.has_ranks());
+  const auto pts = ring(20000);
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const uint32_t j = uint32_t(i * 7 % 3);
+    a.insert(j, pts[i], pv::point_hash(pts[i]));
+    b.insert(j, pts[i], pv::point_hash(pts[i]));
+  }
+  for (uint32_t j = 0; j < 3; ++j) {
+    assert_true(a.level(j) >= 5);  // 6,667 points each into 64 slots
+    assert_int_equal(a.level(j), b.level(j));
+    assert_int_equal(a.count(j), b.count(j));
+    assert_memory_equal(a.points(j), b.points(j), a.count(j) * sizeof(pv::P3));
+  }
+  assert_int_equal(a.stored(), b.stored());
+  assert_int_equal(a.thinned(), b.thinned());
+  // The rank is the level test: rank(h) >= L exactly when h passes level L.
+  for (const pv::P3 &p : ring(300)) {
+    const uint64_t h = pv::point_hash(p);
+    for (uint8_t l = 0; l < 64; ++l) {
+      assert_int_equal(pv::binning::LayerBins::rank(h) >= l, pv::binning::LayerBins::passes(h, l));
+    }
+  }
+  assert_int_equal(pv::binning::LayerBins::rank(0), 64);
+  assert_int_equal(pv::binning::LayerBins::rank(1), 63);
+  assert_int_equal(pv::binning::LayerBins::rank(~uint64_t(0)), 0);
+}
+
 void clear_forgets_everything(void **) {
   std::vector<unsigned char> mem(pv::binning::LayerBins::bytes_needed(2, 64));
   pv::binning::LayerBins bins;
@@ -71,6 +108,7 @@ int main() {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(a_full_bin_thins_in_place_and_never_overflows),
       cmocka_unit_test(kept_points_do_not_depend_on_order),
+      cmocka_unit_test(ranks_keep_the_same_points_in_the_same_order),
       cmocka_unit_test(clear_forgets_everything),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
