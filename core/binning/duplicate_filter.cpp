@@ -38,13 +38,18 @@ uint32_t bucket_of(uint64_t block_hash) { return uint32_t(block_hash >> (64 - kB
 // Bits 12..31 of the fingerprint: hash bits the bucket does not use.
 uint32_t fp_block_of(uint64_t block_hash) { return uint32_t(block_hash >> 12) & 0xFFFFF000u; }
 
-// The fingerprint: the block's part and the cell's place in its block.
-// Never below 16: a bucket's cursor (0..14) shares its cache line.
+// The fingerprint: the block's part and the cell's place in its block
+// (4 bits an axis). Never below 16: a bucket's cursor (0..14) shares its
+// cache line.
+uint32_t fingerprint_at(uint32_t fp_block, uint32_t place) {
+  const uint32_t f = fp_block | place;
+  return f < 16 ? f + 16 : f;
+}
+
 uint32_t fingerprint_of(uint32_t fp_block, const Cell &k) {
   constexpr int32_t m = (1 << kBlockShift) - 1;
-  const uint32_t f = fp_block | uint32_t(k.c[0] & m) | uint32_t(k.c[1] & m) << 4 |
-                     uint32_t(k.c[2] & m) << 8;
-  return f < 16 ? f + 16 : f;
+  return fingerprint_at(fp_block, uint32_t(k.c[0] & m) | uint32_t(k.c[1] & m) << 4 |
+                                      uint32_t(k.c[2] & m) << 8);
 }
 
 // Four points' coordinates of one axis in a 4-lane vector (GCC/Clang vector
@@ -137,7 +142,7 @@ uint32_t make_probes4(const pv_point_t *pt, Probes *pr, size_t at) {
   }
   std::memcpy(&pr->near[at], &near, sizeof near);
   // pack21() of the blocks (cells >> 4, arithmetic: floor division) as two
-  // 32-bit halves, and the cells' places in their blocks (fingerprint_of()).
+  // 32-bit halves, and the cells' places in their blocks (fingerprint_at()).
   constexpr uint32_t m21 = (1u << 21) - 1;
   const V4u bx = reinterpret_cast<V4u>(cell[0] >> kBlockShift) & m21;
   const V4u by = reinterpret_cast<V4u>(cell[1] >> kBlockShift) & m21;
@@ -214,15 +219,14 @@ uint64_t DuplicateFilter::filter_batch(const pv_point_t *pts, size_t n, uint64_t
     const uint32_t v = make_probes4(tail, &pr, at) & ((1u << (n - at)) - 1);
     valid |= uint64_t(v) << at;
   }
-  // Each valid point's block hash, bucket and fingerprint (as block_hash(),
-  // bucket_of(), fingerprint_of()); ask for the bucket's line.
+  // Each valid point's block hash (as block_hash()), bucket and
+  // fingerprint; ask for the bucket's line.
   for (uint64_t left = valid; left != 0; left &= left - 1) {
     const int i = __builtin_ctzll(left);
     const uint64_t h = mix64(uint64_t(pr.hi[i]) << 32 | pr.lo[i]);
     pr.bucket[i] = bucket_of(h);
     pr.fp_block[i] = fp_block_of(h);
-    const uint32_t f = pr.fp_block[i] | pr.place[i];
-    pr.fp[i] = f < 16 ? f + 16 : f;
+    pr.fp[i] = fingerprint_at(pr.fp_block[i], pr.place[i]);
     __builtin_prefetch(&buckets_[pr.bucket[i]]);
   }
   uint64_t dups = 0;
@@ -242,9 +246,9 @@ uint64_t DuplicateFilter::filter_batch(const pv_point_t *pts, size_t n, uint64_t
       const uint32_t at_axis = pr.place[i] >> shift & 15u;
       const bool down = (nr & 7u) != 0;  // the lower boundary: the cell below
       if ((axes & (axes - 1)) == 0 && (down ? at_axis != 0 : at_axis != 15)) {
-        const uint32_t own = pr.fp_block[i] | pr.place[i];
-        const uint32_t f = down ? own - (1u << shift) : own + (1u << shift);
-        seen = contains(pr.bucket[i], f < 16 ? f + 16 : f);  // as fingerprint_of()
+        const uint32_t step = 1u << shift;
+        const uint32_t place = down ? pr.place[i] - step : pr.place[i] + step;
+        seen = contains(pr.bucket[i], fingerprint_at(pr.fp_block[i], place));
       } else {
         const Probe q{{{pr.cell[0][i], pr.cell[1][i], pr.cell[2][i]}},
                       pr.bucket[i],

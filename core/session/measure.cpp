@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "clustering/clustering.h"
+#include "common/divisor.h"
 #include "common/point_hash.h"
 #include "rim/rim.h"
 #include "session/session_impl.h"
@@ -89,21 +90,18 @@ uint64_t assign_layers(pv_session *s, const levelling::Transform &t) {
 // from the ground ring or the rim plane: a fifth of the cost of the two
 // per-layer sums (issue 12). layer_of(z) is outside exactly when
 // z / layer_mm + 0.5 is not in [-below, layers - below) (floor of a value
-// against an integer bound); with a power-of-two layer (the default
-// 0.5 mm) the division is a product by an exact reciprocal: the same bits.
+// against an integer bound); Divisor: the same bits as the division.
 uint64_t count_outside(const pv_session *s, const levelling::Transform &t) {
   const gridding::Grid &g = s->grid;
   const double lo = -double(g.below), hi = double(g.layers - g.below);
-  int e = 0;
-  const bool exact = std::frexp(g.layer_mm, &e) == 0.5;
-  const double inv = 1.0 / g.layer_mm;
+  const Divisor per_layer(g.layer_mm);
   uint64_t outside = 0;
   for (uint32_t b = 0; b < g.layers; ++b) {
     const P3 *pts = s->bins.points(b);
     const uint32_t n = s->bins.count(b);
     for (uint32_t i = 0; i < n; ++i) {
       const double z = t.level_z(pts[i]);
-      const double v = (exact ? z * inv : z / g.layer_mm) + 0.5;
+      const double v = per_layer.of(z) + 0.5;
       outside += (v >= lo && v < hi) ? 0 : 1;
     }
   }

@@ -1,5 +1,6 @@
 #include "surface/surface_model.h"
 
+#include "common/divisor.h"
 #include "surface/angle_bins.h"
 
 #include <algorithm>
@@ -197,18 +198,6 @@ void fit_axis(Ctx *x, uint32_t slabs) {
 }
 
 // --- wall grid and floor map -------------------------------------------------
-
-// a / d, as a product where 1 / d is exact (d a power of two, as the
-// default 2 mm bins and cells): the same bits, without a division per point.
-struct Divisor {
-  double d, inv;
-  bool exact;
-  explicit Divisor(double v) : d(v), inv(1.0 / v) {
-    int e = 0;
-    exact = std::frexp(v, &e) == 0.5;
-  }
-  double of(double a) const { return exact ? a * inv : a / d; }
-};
 
 struct Geo {
   double z0, dz, fx0, fy0, cell;
