@@ -467,18 +467,22 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
     for (uint32_t t = 0; t < g.T; ++t) {
       WallBin &b = ws.wall[size_t(z) * g.T + t];
       if (b.state != kSeen || b.n >= p.sparse_points) continue;
+      // The neighbour columns around the circle, wrapped once per bin (not
+      // once per neighbour and row), without a division.
+      uint32_t cols[7];
+      for (int dt = -reach; dt <= reach; ++dt) {
+        int wrapped = int(t) + dt;
+        wrapped += wrapped < 0 ? int(g.T) : (wrapped >= int(g.T) ? -int(g.T) : 0);
+        cols[dt + reach] = uint32_t(wrapped);
+      }
       size_t k = 0;
-      for (int dz = -reach; dz <= reach; ++dz) {
-        const int zz = int(z) + dz;
-        if (zz < 0 || zz >= int(g.Z)) continue;
-        for (int dt = -reach; dt <= reach; ++dt) {
-          int wrapped = int(t) + dt;  // around the circle, without a division
-          wrapped += wrapped < 0 ? int(g.T) : (wrapped >= int(g.T) ? -int(g.T) : 0);
-          const auto tt = uint32_t(wrapped);
-          const WallBin &o = ws.wall[size_t(zz) * g.T + tt];
-          if ((dz || dt) && o.state == kSeen) {
-            nb[k++] = ws.wall_val[size_t(zz) * g.T + tt];
-          }
+      const int z_lo = std::max(int(z) - reach, 0), z_hi = std::min(int(z) + reach, int(g.Z) - 1);
+      for (int zz = z_lo; zz <= z_hi; ++zz) {
+        const WallBin *row = ws.wall + size_t(zz) * g.T;
+        const float *vals = ws.wall_val + size_t(zz) * g.T;
+        for (int j = 0; j <= 2 * reach; ++j) {
+          if (zz == int(z) && j == reach) continue;  // the bin itself
+          if (row[cols[j]].state == kSeen) nb[k++] = vals[cols[j]];
         }
       }
       if (k < 3) {
@@ -653,18 +657,46 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
   }
 }
 
+// The part of the floor map a scan over its cells visits: the bounding box
+// of the cells that are not empty, grown as the fill spreads. Most of the
+// map lies outside the pit and stays empty; a scan of the box in row order
+// meets the same cells in the same order as a scan of the whole map.
+struct CellBox {
+  uint32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1); empty if x0 >= x1
+  void add(uint32_t x, uint32_t y) {
+    if (x0 >= x1) {
+      x0 = x, y0 = y, x1 = x + 1, y1 = y + 1;
+      return;
+    }
+    x0 = std::min(x0, x), y0 = std::min(y0, y);
+    x1 = std::max(x1, x + 1), y1 = std::max(y1, y + 1);
+  }
+  // By d cells each way, within the C x C map.
+  void grow(uint32_t d, uint32_t C) {
+    if (x0 >= x1) return;
+    x0 = x0 > d ? x0 - d : 0, y0 = y0 > d ? y0 - d : 0;
+    x1 = std::min(x1 + d, C), y1 = std::min(y1 + d, C);
+  }
+  template <class F>
+  void each(uint32_t C, F f) const {  // f(index, x, y), row by row
+    if (x0 >= x1) return;
+    for (uint32_t y = y0; y < y1; ++y) {
+      for (uint32_t x = x0; x < x1; ++x) f(size_t(y) * C + x, x, y);
+    }
+  }
+};
+
 // The floor is the surface connected to the lowest cells without a step:
 // flood from them, accepting a neighbour that rises at most max_rise_mm
 // (any descent is accepted). Multipath floating above the floor, block tops
 // and ledges are separated from it by a step: they set no floor constraint,
 // the wall grid bounds the void there.
-void flood_floor(Workspace &ws, const Geo &g, const Params &p) {
+void flood_floor(Workspace &ws, const Geo &g, const Params &p, const CellBox &box) {
   const uint32_t C = g.C;
-  const size_t cells = size_t(C) * C;
   size_t n = 0;
-  for (size_t i = 0; i < cells; ++i) {
+  box.each(C, [&](size_t i, uint32_t, uint32_t) {
     if (ws.floor[i].state != kEmpty) ws.fill_val[n++] = ws.floor[i].value;
-  }
+  });
   if (n == 0) return;
   const size_t q = n / 50;  // 2 % quantile of the cell heights
   std::nth_element(ws.fill_val, ws.fill_val + q, ws.fill_val + n);
@@ -674,14 +706,13 @@ void flood_floor(Workspace &ws, const Geo &g, const Params &p) {
   // the 2 % quantile of a sparse floor's cells otherwise).
   const float seed_below = std::min(ws.fill_val[q], 0.0f) + float(p.floor_seed_mm);
   size_t head = 0, tail = 0;
-  for (size_t i = 0; i < cells; ++i) {
+  box.each(C, [&](size_t i, uint32_t, uint32_t) {
     FloorCell &f = ws.floor[i];
-    if (f.state == kEmpty) continue;
-    if (f.value <= seed_below) {
+    if (f.state != kEmpty && f.value <= seed_below) {
       f.state = kFloor;
       ws.queue[tail++] = uint32_t(i);
     }
-  }
+  });
   // A step is a rise per cell; coarse cells (Params::coarse_bins) take the
   // same slope as the default 2 mm cells: 12 mm cells stopped the flood on
   // a bowl's sides, whose floor then continued flat from the bottom (+0.5
@@ -708,14 +739,12 @@ void flood_floor(Workspace &ws, const Geo &g, const Params &p) {
 // A floor cell more than floor_bump_mm above the median of the floor cells
 // around it (5 x 5) is multipath that the flood reached by a small step,
 // not floor: dropped, the floor is carried from around it.
-void drop_floor_bumps(Workspace &ws, const Geo &g, const Params &p) {
+void drop_floor_bumps(Workspace &ws, const Geo &g, const Params &p, const CellBox &box) {
   const uint32_t C = g.C;
   float nb[24];
   size_t k = 0;
-  for (uint32_t y = 0; y < C; ++y) {
-    for (uint32_t x = 0; x < C; ++x) {
-      const size_t i = size_t(y) * C + x;
-      if (ws.floor[i].state != kFloor) continue;
+  box.each(C, [&](size_t i, uint32_t x, uint32_t y) {
+      if (ws.floor[i].state != kFloor) return;
       size_t n = 0;
       for (int dy = -2; dy <= 2; ++dy) {
         for (int dx = -2; dx <= 2; ++dx) {
@@ -725,13 +754,12 @@ void drop_floor_bumps(Workspace &ws, const Geo &g, const Params &p) {
           if (o.state == kFloor) nb[n++] = o.value;
         }
       }
-      if (n < 4) continue;
+      if (n < 4) return;
       // Not above the lowest neighbour by the bump: not above the median.
       const double v = ws.floor[i].value;
-      if (v <= double(*std::min_element(nb, nb + n)) + p.floor_bump_mm) continue;
+      if (v <= double(*std::min_element(nb, nb + n)) + p.floor_bump_mm) return;
       if (v > median_small(nb, n) + p.floor_bump_mm) ws.queue[k++] = uint32_t(i);
-    }
-  }
+  });
   for (size_t q = 0; q < k; ++q) ws.floor[ws.queue[q]].state = kSeen;
 }
 
@@ -762,16 +790,19 @@ void fill_floor_cell(Workspace &ws, uint32_t C, uint32_t x, uint32_t y, size_t *
   ++*k;
 }
 
-void fill_floor(Workspace &ws, const Geo &g) {
+// Grows box over the cells it fills.
+void fill_floor(Workspace &ws, const Geo &g, CellBox *box) {
   const uint32_t C = g.C;
   // fill_idx holds a round's fills: at most its capacity (theta x z bins).
   const size_t cap = size_t(ws.cap.theta_bins) * ws.cap.z_bins;
   size_t queued = 0;  // candidates of this round in ws.queue
   for (int round = 0; round < 8; ++round) {
     size_t k = 0;
+    box->grow(1, C);  // a round fills next to cells that are not empty
     if (round == 0) {
-      for (uint32_t y = 0; y < C && k + 1 < cap; ++y) {
-        for (uint32_t x = 0; x < C && k + 1 < cap; ++x) fill_floor_cell(ws, C, x, y, &k);
+      const CellBox &b = *box;
+      for (uint32_t y = b.y0; y < b.y1 && k + 1 < cap; ++y) {
+        for (uint32_t x = b.x0; x < b.x1 && k + 1 < cap; ++x) fill_floor_cell(ws, C, x, y, &k);
       }
     } else {
       for (size_t q = 0; q < queued && k + 1 < cap; ++q) {
@@ -841,20 +872,18 @@ double radius_at(const float *val, const Geo &g, uint32_t t, double z) {
 // (a tapered pit lost 0.13 %). A floor cell whose centre lies within
 // floor_wall_margin_mm of the wall surface at its height is dropped; the
 // floor is carried outward from the cells inside (prepare_rays).
-void drop_floor_at_wall(Workspace &ws, const Geo &g, const Model &m, const Params &p) {
-  const uint32_t C = g.C;
-  for (uint32_t y = 0; y < C; ++y) {
-    for (uint32_t x = 0; x < C; ++x) {
-      FloorCell &f = ws.floor[size_t(y) * C + x];
-      if (f.state != kFloor) continue;
+void drop_floor_at_wall(Workspace &ws, const Geo &g, const Model &m, const Params &p,
+                        const CellBox &box) {
+  box.each(g.C, [&](size_t i, uint32_t x, uint32_t y) {
+      FloorCell &f = ws.floor[i];
+      if (f.state != kFloor) return;
       const double z = f.value;
       const double dx = g.fx0 + (x + 0.5) * g.cell - m.axis.cx(z);
       const double dy = g.fy0 + (y + 0.5) * g.cell - m.axis.cy(z);
       const double r = std::sqrt(dx * dx + dy * dy);
       const double R = radius_at(ws.wall_val, g, ws.theta->bin(dx, dy), z);
       if (r > R - p.floor_wall_margin_mm) f.state = kSeen;
-    }
-  }
+  });
 }
 
 // Params::coarse_bins: the value of a seen bin i (read before it replaces
@@ -962,23 +991,27 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   gc.cache.start();
   src.visit(src.ctx, grid_batch<true>, &gc);
 
-  for (size_t i = 0; i < cells; ++i) {
-    FloorCell &f = ws.floor[i];
-    if (f.n >= p.min_floor_points) {
-      f.value = float(f.sz / f.n);
-      f.state = kSeen;
+  CellBox box;  // the cells that are not empty, from here on
+  for (uint32_t row = 0; row < g.C; ++row) {
+    for (uint32_t col = 0; col < g.C; ++col) {
+      FloorCell &f = ws.floor[size_t(row) * g.C + col];
+      if (f.n >= p.min_floor_points) {
+        f.value = float(f.sz / f.n);
+        f.state = kSeen;
+        box.add(col, row);
+      }
     }
   }
-  fill_floor(ws, g);
-  flood_floor(ws, g, p);
-  drop_floor_bumps(ws, g, p);
+  fill_floor(ws, g, &box);
+  flood_floor(ws, g, p, box);
+  drop_floor_bumps(ws, g, p, box);
   // A point can only lie on the floor within band of a floor cell's value:
   // higher points (most of the wall) are skipped before any arithmetic
   // (with a margin over the rounding of z - value <= band).
   float floor_max = -HUGE_VALF;
-  for (size_t i = 0; i < cells; ++i) {
+  box.each(g.C, [&](size_t i, uint32_t, uint32_t) {
     if (ws.floor[i].state == kFloor) floor_max = std::max(floor_max, ws.floor[i].value);
-  }
+  });
   gc.floor_top = double(floor_max) + p.band_mm + 1e-6 * (1.0 + std::fabs(double(floor_max)));
   gc.cache.start();
   src.visit(src.ctx, each<floor_share_pass>, &gc);
@@ -996,7 +1029,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   if (m->seen_bins < g.T) return Status::NoWall;
   reject_outliers(ws, g, p, m);
   bridge(ws, g, m);
-  drop_floor_at_wall(ws, g, *m, p);
+  drop_floor_at_wall(ws, g, *m, p, box);
 
   return Status::Ok;
 }
