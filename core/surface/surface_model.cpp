@@ -475,14 +475,23 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
         wrapped += wrapped < 0 ? int(g.T) : (wrapped >= int(g.T) ? -int(g.T) : 0);
         cols[dt + reach] = uint32_t(wrapped);
       }
+      // The seen neighbours' values, and their smallest and largest (the
+      // first of equals, as min_element / max_element), without a branch
+      // per neighbour: whether one is seen is random.
       size_t k = 0;
+      float lo_f = 0, hi_f = 0;
       const int z_lo = std::max(int(z) - reach, 0), z_hi = std::min(int(z) + reach, int(g.Z) - 1);
       for (int zz = z_lo; zz <= z_hi; ++zz) {
         const WallBin *row = ws.wall + size_t(zz) * g.T;
         const float *vals = ws.wall_val + size_t(zz) * g.T;
+        const int self = zz == int(z) ? reach : -1;  // the bin itself
         for (int j = 0; j <= 2 * reach; ++j) {
-          if (zz == int(z) && j == reach) continue;  // the bin itself
-          if (row[cols[j]].state == kSeen) nb[k++] = vals[cols[j]];
+          const float v = vals[cols[j]];
+          const bool seen = (row[cols[j]].state == kSeen) & (j != self);
+          lo_f = seen && (k == 0 || v < lo_f) ? v : lo_f;
+          hi_f = seen && (k == 0 || hi_f < v) ? v : hi_f;
+          nb[k] = v;
+          k += seen ? 1 : 0;
         }
       }
       if (k < 3) {
@@ -495,7 +504,7 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
       const double v = ws.wall_val[size_t(z) * g.T + t];
       // The median lies between the smallest and the largest neighbour:
       // a value that passes against both passes against it (no selection).
-      const double lo = *std::min_element(nb, nb + k), hi = *std::max_element(nb, nb + k);
+      const double lo = lo_f, hi = hi_f;
       if (v >= hi - p.inward_reject_mm && v <= lo + 4 * p.inward_reject_mm) continue;
       const double med = median_small(nb, k);
       if (v < med - p.inward_reject_mm || v > med + 4 * p.inward_reject_mm) {
