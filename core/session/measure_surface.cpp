@@ -80,17 +80,24 @@ struct Leveller {
 void visit_bins(const binning::LayerBins &bins, const levelling::Transform &t, uint32_t stride,
                 surface::PointFn fn, void *fn_ctx) {
   const Leveller lv(t);
-  // One spare entry: the last point of a bin goes in a pair with itself.
+  // One spare entry: a run of odd length levels its last point twice.
   surface::Point buf[kVisitBatch + 1];
   uint32_t n = 0;
   for (uint32_t b = 0; b < bins.layers(); ++b) {
     const P3 *pts = bins.points(b);
     const uint32_t count = bins.count(b);
-    for (uint32_t i = 0; i < count; i += 2 * stride) {
-      const bool pair = i + stride < count;
-      lv.two(pts[i], pts[pair ? i + stride : i], buf + n);
-      n += pair ? 2 : 1;
-      if (n + 1 >= kVisitBatch) {  // the next pair may not fit
+    // Runs of the bin's points that fill the batch: no test per point of
+    // the batch's room (the passes do not see where a batch ends).
+    for (uint32_t i = 0; i < count;) {
+      const uint32_t left = stride == 1 ? count - i : (count - i + stride - 1) / stride;
+      const uint32_t take = std::min(left, kVisitBatch - n);
+      const P3 *p = pts + i;
+      uint32_t k = 0;
+      for (; k + 1 < take; k += 2) lv.two(p[k * stride], p[(k + 1) * stride], buf + n + k);
+      if (k < take) lv.two(p[k * stride], p[k * stride], buf + n + k);
+      n += take;
+      i += take * stride;
+      if (n == kVisitBatch) {
         fn(fn_ctx, buf, n);
         n = 0;
       }
