@@ -3,7 +3,8 @@
 //
 // Two binaries: fuzz_session (methods paper and polar, bit 0 of the seed
 // picks one) and fuzz_session_surface (PV_FUZZ_SURFACE: the default method
-// surface, in its own binary so that it gets its own budget and figures).
+// surface, in its own binary so that it gets its own budget and figures;
+// bit 0 of the seed picks its fine or its coarse grids, Grids below).
 //
 // Input: 8 bytes of seed (draws batch sizes and where estimate() is
 // called), then 12 bytes per point (three raw floats: NaN, infinities and
@@ -30,13 +31,33 @@
 
 namespace {
 
+// The surface model's grids, smaller than the default's (2 deg, 2 mm cells
+// out to 320 mm: 5 MB written by every estimate and finish, most of an
+// execution): the same code on fewer bins, or the coarse-bin code of the
+// MCU profile (firmware/mcu/mcu_config.h).
+enum class Grids { Default, Fine, Coarse };
+
 struct Block {
   pv_config_t cfg;
   void *mem = nullptr;
   pv_session_t *s = nullptr;
-  explicit Block(pv_method_t m) {
+  explicit Block(pv_method_t m, Grids grids = Grids::Default) {
     pv_config_default(&cfg);
     cfg.method = m;
+    if (grids == Grids::Fine) {
+      cfg.surface_theta_bins = 90;
+      cfg.surface_cell_mm = 4.0f;
+      cfg.surface_max_radius_mm = 160.0f;
+      cfg.surface_floor_points = 4096;
+    } else if (grids == Grids::Coarse) {
+      cfg.surface_theta_bins = 36;
+      cfg.surface_wall_dz_mm = 12.0f;
+      cfg.surface_cell_mm = 12.0f;
+      cfg.surface_max_radius_mm = 240.0f;
+      cfg.surface_floor_points = 2560;
+      cfg.surface_band_mm = 3.0f;
+      cfg.surface_coarse_bins = 1;
+    }
     cfg.max_layers = 64;
     cfg.layer_mm = 2.0f;
     cfg.points_per_layer = 64;
@@ -111,7 +132,7 @@ Run run(pv_session_t *s, const std::vector<pv_point_t> &pts, const std::vector<s
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
 #ifdef PV_FUZZ_SURFACE
-  static Block surface(PV_METHOD_SURFACE);
+  static Block fine(PV_METHOD_SURFACE, Grids::Fine), coarse(PV_METHOD_SURFACE, Grids::Coarse);
 #else
   static Block paper(PV_METHOD_PAPER), polar(PV_METHOD_POLAR);
 #endif
@@ -143,7 +164,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   for (int k = int(draw.below(4)); k > 0; --k) estimate_at.push_back(draw.below(pts.size() + 1));
   std::sort(estimate_at.begin(), estimate_at.end());
 #ifdef PV_FUZZ_SURFACE
-  pv_session_t *s = surface.s;
+  pv_session_t *s = (seed & 1) ? coarse.s : fine.s;
 #else
   pv_session_t *s = (seed & 1) ? polar.s : paper.s;
 #endif
