@@ -469,7 +469,7 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
       if (b.state != kSeen || b.n >= p.sparse_points) continue;
       // The neighbour columns around the circle, wrapped once per bin (not
       // once per neighbour and row), without a division.
-      uint32_t cols[7];
+      uint32_t cols[7] = {};
       for (int dt = -reach; dt <= reach; ++dt) {
         int wrapped = int(t) + dt;
         wrapped += wrapped < 0 ? int(g.T) : (wrapped >= int(g.T) ? -int(g.T) : 0);
