@@ -2,6 +2,8 @@
 
 #include "common/divisor.h"
 #include "surface/angle_bins.h"
+#include "surface/floor_map.h"
+#include "surface/grid_geo.h"
 
 #include <algorithm>
 #include <cmath>
@@ -85,15 +87,6 @@ struct Ctx {
   double sx, sy;
   uint64_t n;
 };
-
-// The median (mean of the two middle values for even n), by selection, not
-// a full sort: the same value, in a third of the time.
-double median_small(float *v, size_t n) {
-  std::nth_element(v, v + n / 2, v + n);
-  if (n % 2) return double(v[n / 2]);
-  const float below = *std::max_element(v, v + n / 2);
-  return 0.5 * (double(below) + double(v[n / 2]));
-}
 
 // A pass over the points: the per-point function inlined in the batch loop.
 template <void (*F)(void *, const Point &)>
@@ -198,17 +191,6 @@ void fit_axis(Ctx *x, uint32_t slabs) {
 }
 
 // --- wall grid and floor map -------------------------------------------------
-
-struct Geo {
-  double z0, dz, fx0, fy0, cell;
-  uint32_t T, Z, C;
-  Divisor per_dz, per_cell;
-};
-
-Geo geo_of(const Workspace &ws, const Model &m, const Params &p) {
-  return Geo{m.z0_mm, p.dz_mm, m.floor_x0, m.floor_y0, p.cell_mm, ws.cap.theta_bins, m.z_bins,
-             ws.cap.cells, Divisor(p.dz_mm), Divisor(p.cell_mm)};
-}
 
 // The theta bin of each point around the final axis, kept from the first
 // grid pass for the later ones (Workspace::point_theta): the angle is the
@@ -664,183 +646,6 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
     ws.wall[i].state = kFloorBin;
     ws.wall_lo[i] = ws.wall_hi[i] = ws.wall_val[i];
   }
-}
-
-// The part of the floor map a scan over its cells visits: the bounding box
-// of the cells that are not empty, grown as the fill spreads. Most of the
-// map lies outside the pit and stays empty; a scan of the box in row order
-// meets the same cells in the same order as a scan of the whole map.
-struct CellBox {
-  uint32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1); empty if x0 >= x1
-  void add(uint32_t x, uint32_t y) {
-    if (x0 >= x1) {
-      x0 = x, y0 = y, x1 = x + 1, y1 = y + 1;
-      return;
-    }
-    x0 = std::min(x0, x), y0 = std::min(y0, y);
-    x1 = std::max(x1, x + 1), y1 = std::max(y1, y + 1);
-  }
-  // By d cells each way, within the C x C map.
-  void grow(uint32_t d, uint32_t C) {
-    if (x0 >= x1) return;
-    x0 = x0 > d ? x0 - d : 0, y0 = y0 > d ? y0 - d : 0;
-    x1 = std::min(x1 + d, C), y1 = std::min(y1 + d, C);
-  }
-  template <class F>
-  void each(uint32_t C, F f) const {  // f(index, x, y), row by row
-    if (x0 >= x1) return;
-    for (uint32_t y = y0; y < y1; ++y) {
-      for (uint32_t x = x0; x < x1; ++x) f(size_t(y) * C + x, x, y);
-    }
-  }
-};
-
-// The floor is the surface connected to the lowest cells without a step:
-// flood from them, accepting a neighbour that rises at most max_rise_mm
-// (any descent is accepted). Multipath floating above the floor, block tops
-// and ledges are separated from it by a step: they set no floor constraint,
-// the wall grid bounds the void there.
-void flood_floor(Workspace &ws, const Geo &g, const Params &p, const CellBox &box) {
-  const uint32_t C = g.C;
-  size_t n = 0;
-  box.each(C, [&](size_t i, uint32_t, uint32_t) {
-    if (ws.floor[i].state != kEmpty) ws.fill_val[n++] = ws.floor[i].value;
-  });
-  if (n == 0) return;
-  const size_t q = n / 50;  // 2 % quantile of the cell heights
-  std::nth_element(ws.fill_val, ws.fill_val + q, ws.fill_val + n);
-  // Seeds: the lowest cells, or those at the bottom plane of the levelling
-  // when lower cells are few (the floor layers are thinned hardest, the
-  // multipath above them not at all: a cell of multipath can be lower than
-  // the 2 % quantile of a sparse floor's cells otherwise).
-  const float seed_below = std::min(ws.fill_val[q], 0.0f) + float(p.floor_seed_mm);
-  size_t head = 0, tail = 0;
-  box.each(C, [&](size_t i, uint32_t, uint32_t) {
-    FloorCell &f = ws.floor[i];
-    if (f.state != kEmpty && f.value <= seed_below) {
-      f.state = kFloor;
-      ws.queue[tail++] = uint32_t(i);
-    }
-  });
-  // A step is a rise per cell; coarse cells (Params::coarse_bins) take the
-  // same slope as the default 2 mm cells: 12 mm cells stopped the flood on
-  // a bowl's sides, whose floor then continued flat from the bottom (+0.5
-  // to +1 %).
-  const float rise = float(p.coarse_bins ? p.floor_max_rise_mm * g.cell / Params{}.cell_mm
-                                         : p.floor_max_rise_mm);
-  while (head < tail) {
-    const uint32_t i = ws.queue[head++];
-    const uint32_t x = i % C, y = i / C;
-    const float v = ws.floor[i].value;
-    for (int d = 0; d < 4; ++d) {
-      const int xx = int(x) + (d == 0) - (d == 1), yy = int(y) + (d == 2) - (d == 3);
-      if (xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
-      const size_t j = size_t(yy) * C + size_t(xx);
-      FloorCell &o = ws.floor[j];
-      if (o.state == kEmpty || o.state == kFloor) continue;
-      if (o.value > v + rise) continue;
-      o.state = kFloor;
-      ws.queue[tail++] = uint32_t(j);
-    }
-  }
-}
-
-// A floor cell more than floor_bump_mm above the median of the floor cells
-// around it (5 x 5) is multipath that the flood reached by a small step,
-// not floor: dropped, the floor is carried from around it.
-void drop_floor_bumps(Workspace &ws, const Geo &g, const Params &p, const CellBox &box) {
-  const uint32_t C = g.C;
-  float nb[24];
-  size_t k = 0;
-  box.each(C, [&](size_t i, uint32_t x, uint32_t y) {
-      if (ws.floor[i].state != kFloor) return;
-      size_t n = 0;
-      for (int dy = -2; dy <= 2; ++dy) {
-        for (int dx = -2; dx <= 2; ++dx) {
-          const int xx = int(x) + dx, yy = int(y) + dy;
-          if ((dx == 0 && dy == 0) || xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
-          const FloorCell &o = ws.floor[size_t(yy) * C + size_t(xx)];
-          if (o.state == kFloor) nb[n++] = o.value;
-        }
-      }
-      if (n < 4) return;
-      // Not above the lowest neighbour by the bump: not above the median.
-      const double v = ws.floor[i].value;
-      if (v <= double(*std::min_element(nb, nb + n)) + p.floor_bump_mm) return;
-      if (v > median_small(nb, n) + p.floor_bump_mm) ws.queue[k++] = uint32_t(i);
-  });
-  for (size_t q = 0; q < k; ++q) ws.floor[ws.queue[q]].state = kSeen;
-}
-
-// Floor cells without points inside the pit: from their neighbours, a few
-// rounds (holes of dropout); cells still empty set no floor constraint.
-// Each round reads only values of earlier rounds. After the first, a cell
-// can only become fillable next to a cell the last round filled, so later
-// rounds look at those neighbours alone, not at every cell of the map (most
-// lie outside the pit): the same fills, without eight scans of the map.
-constexpr float kQueuedCell = -1.0e30f;  // an empty cell's value, while queued
-
-void fill_floor_cell(Workspace &ws, uint32_t C, uint32_t x, uint32_t y, size_t *k) {
-  const size_t i = size_t(y) * C + x;
-  if (ws.floor[i].state != kEmpty) return;
-  double s = 0;
-  int cnt = 0;
-  for (int d = 0; d < 4; ++d) {
-    const int xx = int(x) + (d == 0) - (d == 1), yy = int(y) + (d == 2) - (d == 3);
-    if (xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
-    const FloorCell &o = ws.floor[size_t(yy) * C + size_t(xx)];
-    if (o.state == kEmpty) continue;
-    s += o.value;
-    ++cnt;
-  }
-  if (cnt < 2) return;
-  ws.fill_idx[*k] = uint32_t(i);
-  ws.fill_val[*k] = float(s / cnt);
-  ++*k;
-}
-
-// Grows box over the cells it fills.
-void fill_floor(Workspace &ws, const Geo &g, CellBox *box) {
-  const uint32_t C = g.C;
-  // fill_idx holds a round's fills: at most its capacity (theta x z bins).
-  const size_t cap = size_t(ws.cap.theta_bins) * ws.cap.z_bins;
-  size_t queued = 0;  // candidates of this round in ws.queue
-  for (int round = 0; round < 8; ++round) {
-    size_t k = 0;
-    box->grow(1, C);  // a round fills next to cells that are not empty
-    if (round == 0) {
-      const CellBox &b = *box;
-      for (uint32_t y = b.y0; y < b.y1 && k + 1 < cap; ++y) {
-        for (uint32_t x = b.x0; x < b.x1 && k + 1 < cap; ++x) fill_floor_cell(ws, C, x, y, &k);
-      }
-    } else {
-      for (size_t q = 0; q < queued && k + 1 < cap; ++q) {
-        const uint32_t i = ws.queue[q];
-        ws.floor[i].value = 0.0f;
-        fill_floor_cell(ws, C, i % C, i / C, &k);
-      }
-      for (size_t q = 0; q < queued; ++q) ws.floor[ws.queue[q]].value = 0.0f;
-    }
-    if (k == 0) break;
-    for (size_t q = 0; q < k; ++q) {
-      ws.floor[ws.fill_idx[q]].value = ws.fill_val[q];
-      ws.floor[ws.fill_idx[q]].state = kBridged;
-    }
-    queued = 0;
-    for (size_t q = 0; q < k; ++q) {
-      const uint32_t i = ws.fill_idx[q], x = i % C, y = i / C;
-      for (int d = 0; d < 4; ++d) {
-        const int xx = int(x) + (d == 0) - (d == 1), yy = int(y) + (d == 2) - (d == 3);
-        if (xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
-        const size_t j = size_t(yy) * C + size_t(xx);
-        FloorCell &o = ws.floor[j];
-        if (o.state != kEmpty || o.value == kQueuedCell) continue;
-        o.value = kQueuedCell;
-        ws.queue[queued++] = uint32_t(j);
-      }
-    }
-  }
-  for (size_t q = 0; q < queued; ++q) ws.floor[ws.queue[q]].value = 0.0f;
 }
 
 // R at height z, linear between bin centres, for any column: where z falls

@@ -1,0 +1,40 @@
+// The wall grid's and the floor map's geometry for one model, shared by the
+// surface model's stages (surface_model.cpp, floor_map.cpp); internal to
+// core/surface.
+#ifndef PV_SURFACE_GRID_GEO_H
+#define PV_SURFACE_GRID_GEO_H
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+
+#include "common/divisor.h"
+#include "surface/surface_model.h"
+
+namespace pv::surface {
+
+// Bins and cells of the model: wall bins T (angle) x Z (height) of dz from
+// z0; floor cells C x C of side cell from (fx0, fy0).
+struct Geo {
+  double z0, dz, fx0, fy0, cell;
+  uint32_t T, Z, C;
+  Divisor per_dz, per_cell;
+};
+
+inline Geo geo_of(const Workspace &ws, const Model &m, const Params &p) {
+  return Geo{m.z0_mm, p.dz_mm, m.floor_x0, m.floor_y0, p.cell_mm, ws.cap.theta_bins, m.z_bins,
+             ws.cap.cells, Divisor(p.dz_mm), Divisor(p.cell_mm)};
+}
+
+// The median (mean of the two middle values for even n), by selection, not
+// a full sort: the same value, in a third of the time.
+inline double median_small(float *v, size_t n) {
+  std::nth_element(v, v + n / 2, v + n);
+  if (n % 2) return double(v[n / 2]);
+  const float below = *std::max_element(v, v + n / 2);
+  return 0.5 * (double(below) + double(v[n / 2]));
+}
+
+}  // namespace pv::surface
+
+#endif
