@@ -787,6 +787,12 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   for (size_t i = 0; i < bins; ++i) {
     ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0.0f, 0, 0, 0, 0, 0, 0, 0, 0};
   }
+  // No value is left from an earlier build (the block is reused): the same
+  // points give the same model whatever the block held (issue 9, a fuzz
+  // finding: a grid integrated from stale values).
+  std::fill(ws.wall_val, ws.wall_val + bins, 0.0f);
+  std::fill(ws.wall_lo, ws.wall_lo + bins, 0.0f);
+  std::fill(ws.wall_hi, ws.wall_hi + bins, 0.0f);
   const size_t cells = size_t(g.C) * g.C;
   for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty};
 
@@ -842,6 +848,10 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   }
   if (m->seen_bins < g.T) return Status::NoWall;
   reject_outliers(ws, g, p, m);
+  // Every other bin takes its value from the seen ones (bridge): with too
+  // few left after the outliers (a cloud whose sparse bins were all
+  // rejected) the grid would be integrated from values nothing wrote.
+  if (m->seen_bins - m->rejected_bins < g.T) return Status::NoWall;
   bridge(ws, g, m);
   drop_floor_at_wall(ws, g, *m, p, box);
 
