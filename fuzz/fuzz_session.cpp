@@ -4,13 +4,13 @@
 // Two binaries: fuzz_session (methods paper and polar, bit 0 of the seed
 // picks one) and fuzz_session_surface (PV_FUZZ_SURFACE: the default method
 // surface, in its own binary so that it gets its own budget and figures;
-// bit 0 of the seed picks its fine or its coarse grids, Grids below).
+// bit 0 of the seed picks its fine or its coarse grids:
+// fuzz_session_config.h).
 //
 // Input: 8 bytes of seed (draws batch sizes and where estimate() is
 // called), then 12 bytes per point (three raw floats: NaN, infinities and
-// denormals included). A small configuration (64 layers of 2 mm, 64 points
-// per layer, 16 RANSAC draws) keeps an execution short and its bins
-// thinning.
+// denormals included). A small configuration (fuzz_session_config.h) keeps
+// an execution short and its bins thinning.
 //
 // Invariants beyond "no crash":
 // - batching does not matter: the same points with estimate() at the same
@@ -26,47 +26,20 @@
 #include <cstring>
 #include <vector>
 
+#include "fuzz_session_config.h"
 #include "fuzz_support.h"
 #include "pitvol/pitvol.h"
 
 namespace {
 
-// The surface model's grids, smaller than the default's (2 deg, 2 mm cells
-// out to 320 mm: 5 MB written by every estimate and finish, most of an
-// execution): the same code on fewer bins, or the coarse-bin code of the
-// MCU profile (firmware/mcu/mcu_config.h).
-enum class Grids { Default, Fine, Coarse };
+using pv::fuzz::Grids;
 
 struct Block {
   pv_config_t cfg;
   void *mem = nullptr;
   pv_session_t *s = nullptr;
   explicit Block(pv_method_t m, Grids grids = Grids::Default) {
-    pv_config_default(&cfg);
-    cfg.method = m;
-    if (grids == Grids::Fine) {
-      cfg.surface_theta_bins = 90;
-      cfg.surface_cell_mm = 4.0f;
-      cfg.surface_max_radius_mm = 160.0f;
-      cfg.surface_floor_points = 4096;
-    } else if (grids == Grids::Coarse) {
-      cfg.surface_theta_bins = 36;
-      cfg.surface_wall_dz_mm = 12.0f;
-      cfg.surface_cell_mm = 12.0f;
-      cfg.surface_max_radius_mm = 240.0f;
-      cfg.surface_floor_points = 2560;
-      cfg.surface_band_mm = 3.0f;
-      cfg.surface_coarse_bins = 1;
-    }
-    cfg.max_layers = 64;
-    cfg.layer_mm = 2.0f;
-    cfg.points_per_layer = 64;
-    cfg.level_sample_points = 256;
-    cfg.warmup_points = 256;
-    // The fewest RANSAC draws the validation allows: the plane fit's
-    // comparisons under coverage instrumentation were 65 % of an execution
-    // at the default 256.
-    cfg.ransac_iterations = 16;
+    pv::fuzz::session_config(&cfg, m, grids);
     size_t bytes = 0;
     if (pv_session_size(&cfg, &bytes) != PV_OK) std::abort();
     mem = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);

@@ -93,21 +93,21 @@ void drop_floor_bumps(Workspace &ws, const Geo &g, const Params &p, const CellBo
   float nb[24];
   size_t k = 0;
   box.each(C, [&](size_t i, uint32_t x, uint32_t y) {
-      if (ws.floor[i].state != kFloor) return;
-      size_t n = 0;
-      for (int dy = -2; dy <= 2; ++dy) {
-        for (int dx = -2; dx <= 2; ++dx) {
-          const int xx = int(x) + dx, yy = int(y) + dy;
-          if ((dx == 0 && dy == 0) || xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
-          const FloorCell &o = ws.floor[size_t(yy) * C + size_t(xx)];
-          if (o.state == kFloor) nb[n++] = o.value;
-        }
+    if (ws.floor[i].state != kFloor) return;
+    size_t n = 0;
+    for (int dy = -2; dy <= 2; ++dy) {
+      for (int dx = -2; dx <= 2; ++dx) {
+        const int xx = int(x) + dx, yy = int(y) + dy;
+        if ((dx == 0 && dy == 0) || xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
+        const FloorCell &o = ws.floor[size_t(yy) * C + size_t(xx)];
+        if (o.state == kFloor) nb[n++] = o.value;
       }
-      if (n < 4) return;
-      // Not above the lowest neighbour by the bump: not above the median.
-      const double v = ws.floor[i].value;
-      if (v <= double(*std::min_element(nb, nb + n)) + p.floor_bump_mm) return;
-      if (v > median_small(nb, n) + p.floor_bump_mm) ws.queue[k++] = uint32_t(i);
+    }
+    if (n < 4) return;
+    // Not above the lowest neighbour by the bump: not above the median.
+    const double v = ws.floor[i].value;
+    if (v <= double(*std::min_element(nb, nb + n)) + p.floor_bump_mm) return;
+    if (v > median_small(nb, n) + p.floor_bump_mm) ws.queue[k++] = uint32_t(i);
   });
   for (size_t q = 0; q < k; ++q) ws.floor[ws.queue[q]].state = kSeen;
 }

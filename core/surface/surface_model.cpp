@@ -689,14 +689,14 @@ double radius_at(const float *val, const Geo &g, uint32_t t, double z) {
 void drop_floor_at_wall(Workspace &ws, const Geo &g, const Model &m, const Params &p,
                         const CellBox &box) {
   box.each(g.C, [&](size_t i, uint32_t x, uint32_t y) {
-      FloorCell &f = ws.floor[i];
-      if (f.state != kFloor) return;
-      const double z = f.value;
-      const double dx = g.fx0 + (x + 0.5) * g.cell - m.axis.cx(z);
-      const double dy = g.fy0 + (y + 0.5) * g.cell - m.axis.cy(z);
-      const double r = std::sqrt(dx * dx + dy * dy);
-      const double R = radius_at(ws.wall_val, g, ws.theta->bin(dx, dy), z);
-      if (r > R - p.floor_wall_margin_mm) f.state = kSeen;
+    FloorCell &f = ws.floor[i];
+    if (f.state != kFloor) return;
+    const double z = f.value;
+    const double dx = g.fx0 + (x + 0.5) * g.cell - m.axis.cx(z);
+    const double dy = g.fy0 + (y + 0.5) * g.cell - m.axis.cy(z);
+    const double r = std::sqrt(dx * dx + dy * dy);
+    const double R = radius_at(ws.wall_val, g, ws.theta->bin(dx, dy), z);
+    if (r > R - p.floor_wall_margin_mm) f.state = kSeen;
   });
 }
 
@@ -787,12 +787,6 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   for (size_t i = 0; i < bins; ++i) {
     ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0.0f, 0, 0, 0, 0, 0, 0, 0, 0};
   }
-  // No value is left from an earlier build (the block is reused): the same
-  // points give the same model whatever the block held (issue 9, a fuzz
-  // finding: a grid integrated from stale values).
-  std::fill(ws.wall_val, ws.wall_val + bins, 0.0f);
-  std::fill(ws.wall_lo, ws.wall_lo + bins, 0.0f);
-  std::fill(ws.wall_hi, ws.wall_hi + bins, 0.0f);
   const size_t cells = size_t(g.C) * g.C;
   for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty};
 
@@ -846,11 +840,11 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
       ++m->seen_bins;
     }
   }
-  if (m->seen_bins < g.T) return Status::NoWall;
   reject_outliers(ws, g, p, m);
-  // Every other bin takes its value from the seen ones (bridge): with too
-  // few left after the outliers (a cloud whose sparse bins were all
-  // rejected) the grid would be integrated from values nothing wrote.
+  // Every other bin takes its value from the seen bins that the outlier
+  // test leaves (bridge); with too few of them, or none (a cloud whose
+  // sparse bins were all rejected: issue 9, a fuzz finding), the grid would
+  // be integrated from values no build wrote.
   if (m->seen_bins - m->rejected_bins < g.T) return Status::NoWall;
   bridge(ws, g, m);
   drop_floor_at_wall(ws, g, *m, p, box);

@@ -3,6 +3,7 @@
 #ifndef PV_TESTS_SESSION_SUPPORT_H
 #define PV_TESTS_SESSION_SUPPORT_H
 
+#include <algorithm>
 #include <cstdlib>
 #include <vector>
 
@@ -15,13 +16,11 @@ struct TestSession {
   void *block = nullptr;
   pv_session_t *s = nullptr;
   // tweak: adjusts the default configuration before the block is sized.
-  explicit TestSession(void (*tweak)(pv_config_t *) = nullptr) {
-    pv_config_default(&cfg);
-    if (tweak != nullptr) tweak(&cfg);
-    pv_session_size(&cfg, &bytes);
-    block = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
-    pv_session_init(&cfg, block, bytes, &s);
-  }
+  explicit TestSession(void (*tweak)(pv_config_t *) = nullptr) : TestSession(tweak, nullptr) {}
+  // The block holds fill in every float before init (a reused block).
+  TestSession(void (*tweak)(pv_config_t *), float fill) : TestSession(tweak, &fill) {}
+  // The configuration as given (cfg_in), not the default's.
+  TestSession(const pv_config_t &cfg_in, float fill) : cfg(cfg_in) { open(&fill); }
   ~TestSession() { std::free(block); }
   pv_status_t push_all(const std::vector<pv_point_t> &pts, size_t batch) {
     for (size_t i = 0; i < pts.size(); i += batch) {
@@ -30,6 +29,20 @@ struct TestSession {
       if (st != PV_OK) return st;
     }
     return PV_OK;
+  }
+
+ private:
+  TestSession(void (*tweak)(pv_config_t *), const float *fill) {
+    pv_config_default(&cfg);
+    if (tweak != nullptr) tweak(&cfg);
+    open(fill);
+  }
+  void open(const float *fill) {
+    pv_session_size(&cfg, &bytes);
+    const size_t rounded = (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN;
+    block = std::aligned_alloc(PV_BLOCK_ALIGN, rounded);
+    if (fill != nullptr) std::fill_n(static_cast<float *>(block), rounded / sizeof(float), *fill);
+    pv_session_init(&cfg, block, bytes, &s);
   }
 };
 

@@ -13,24 +13,11 @@
 #include <cstring>
 #include <vector>
 
+#include "fuzz_session_config.h"
 #include "session_support.h"
 #include "pv_cmocka.h"  // last: see pv_cmocka.h
 
 namespace {
-
-// The fuzz harness's fine-grid configuration (fuzz/fuzz_session.cpp).
-void fine_grids(pv_config_t *c) {
-  c->max_layers = 64;
-  c->layer_mm = 2.0f;
-  c->points_per_layer = 64;
-  c->level_sample_points = 256;
-  c->warmup_points = 256;
-  c->ransac_iterations = 16;
-  c->surface_theta_bins = 90;
-  c->surface_cell_mm = 4.0f;
-  c->surface_max_radius_mm = 160.0f;
-  c->surface_floor_points = 4096;
-}
 
 // Every estimate and the finish, in order.
 struct Outcome {
@@ -38,32 +25,24 @@ struct Outcome {
   std::vector<double> volume;
 };
 
-// A block filled with value (as floats) before init, then the points with
+// A block holding value in every float before init, then the points with
 // an estimate after the first estimate_at[i] of them, then the finish.
-Outcome run(void (*tweak)(pv_config_t *), float value, const std::vector<pv_point_t> &pts,
+Outcome run(const pv_config_t &cfg, float value, const std::vector<pv_point_t> &pts,
             const std::vector<size_t> &estimate_at) {
-  pv_config_t cfg;
-  pv_config_default(&cfg);
-  if (tweak != nullptr) tweak(&cfg);
-  size_t bytes = 0;
-  assert_int_equal(pv_session_size(&cfg, &bytes), PV_OK);
-  std::vector<float> mem((bytes + PV_BLOCK_ALIGN) / sizeof(float) + PV_BLOCK_ALIGN, value);
-  auto addr = reinterpret_cast<uintptr_t>(mem.data());
-  void *block = reinterpret_cast<void *>((addr + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
-  pv_session_t *s = nullptr;
-  assert_int_equal(pv_session_init(&cfg, block, bytes, &s), PV_OK);
+  TestSession t(cfg, value);
+  assert_non_null(t.s);
   Outcome o;
   size_t at = 0;
   for (size_t until : estimate_at) {
-    assert_int_equal(pv_session_push(s, pts.data() + at, until - at), PV_OK);
+    assert_int_equal(pv_session_push(t.s, pts.data() + at, until - at), PV_OK);
     at = until;
     pv_result_t r{};
-    o.status.push_back(pv_session_estimate(s, &r));
+    o.status.push_back(pv_session_estimate(t.s, &r));
     o.volume.push_back(r.volume_cm3);
   }
-  assert_int_equal(pv_session_push(s, pts.data() + at, pts.size() - at), PV_OK);
+  assert_int_equal(pv_session_push(t.s, pts.data() + at, pts.size() - at), PV_OK);
   pv_result_t r{};
-  o.status.push_back(pv_session_finish(s, &r));
+  o.status.push_back(pv_session_finish(t.s, &r));
   o.volume.push_back(r.volume_cm3);
   return o;
 }
@@ -98,13 +77,16 @@ std::vector<pv_point_t> regression_points() {
 void test_rejected_wall_reads_no_stale_values(void **) {
   const std::vector<pv_point_t> pts = regression_points();
   assert_int_equal(pts.size(), 3689);
+  // As the harness found it: its fine grids (seed bit 0 clear).
+  pv_config_t fine;
+  pv::fuzz::session_config(&fine, PV_METHOD_SURFACE, pv::fuzz::Grids::Fine);
   // Where the harness estimated (its seed's draws), and every 500 points.
   std::vector<size_t> every;
   for (size_t at = 500; at < pts.size(); at += 500) every.push_back(at);
   for (const std::vector<size_t> &at : {std::vector<size_t>{1256, 2691}, every}) {
-    const Outcome zero = run(fine_grids, 0.0f, pts, at);
+    const Outcome zero = run(fine, 0.0f, pts, at);
     for (float value : {20.0f, 50.0f, 100.0f, -1.0f}) {
-      expect_same(zero, run(fine_grids, value, pts, at), value);
+      expect_same(zero, run(fine, value, pts, at), value);
     }
   }
 }
@@ -114,9 +96,11 @@ void test_pit_same_on_a_dirty_block(void **) {
   pv::synth::PitSpec spec;
   const std::vector<pv_point_t> pts = scan_points(spec, 120000);
   const std::vector<size_t> at = {40000, 80000};
-  const Outcome zero = run(nullptr, 0.0f, pts, at);
+  pv_config_t cfg;
+  pv_config_default(&cfg);
+  const Outcome zero = run(cfg, 0.0f, pts, at);
   assert_int_equal(zero.status.back(), PV_OK);
-  for (float value : {50.0f, 250.0f}) expect_same(zero, run(nullptr, value, pts, at), value);
+  for (float value : {50.0f, 250.0f}) expect_same(zero, run(cfg, value, pts, at), value);
 }
 
 }  // namespace
