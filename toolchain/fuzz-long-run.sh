@@ -35,7 +35,10 @@ name=$1 seconds=$2 seed=${3:-$(date +%s)}
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz --target "$name" >/dev/null
 # The harness's corpus and input size, as CTest runs it (fuzz/CMakeLists.txt).
-spec=$(ctest --preset fuzz -N -V -R "^${name}\$" | grep -m1 -- "-max_len=") ||
+# (ctest's listing is read whole first: grep -m1 on the pipe could stop
+# ctest with SIGPIPE, which pipefail reports as no such test.)
+listing=$(ctest --preset fuzz -N -V -R "^${name}\$")
+spec=$(grep -m1 -- "-max_len=" <<<"$listing") ||
   { echo "$0: no fuzz test named $name" >&2; exit 2; }
 max_len=$(sed -n 's/.*-max_len=\([0-9]*\).*/\1/p' <<<"$spec")
 corpus=$(awk '{ print $NF }' <<<"$spec" | tr -d '"')
