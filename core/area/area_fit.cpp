@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 
+#include "common/angle.h"
+
 namespace pv {
 namespace area {
 namespace {
@@ -244,8 +246,11 @@ bool fit_area(const XY *pts, size_t n, const Params &p, XY *scratch, size_t scra
   double breaks[kMaxPieces + 1];
   const double cx = 0.5 * (b.x_max + b.x_min);
   const double R = 0.5 * (b.x_max - b.x_min);
-  for (uint32_t k = 0; k <= P; ++k)
-    breaks[k] = cx - R * std::cos(kPi * static_cast<double>(k) / static_cast<double>(P));
+  for (uint32_t k = 0; k <= P; ++k) {
+    double s, c;  // no libm (common/angle.h): the same nodes on every target
+    sin_cos(kPi * static_cast<double>(k) / static_cast<double>(P), &s, &c);
+    breaks[k] = cx - R * c;
+  }
   breaks[0] = b.x_min;
   breaks[P] = b.x_max;
 

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/angle.h"
+
 namespace pv::area {
 
 namespace {
@@ -19,9 +21,11 @@ double median_of(double *v, size_t n) {
   return v[n / 2];
 }
 
-// Basis values 1, cos t, sin t, ..., cos Kt, sin Kt by the recurrence.
+// Basis values 1, cos t, sin t, ..., cos Kt, sin Kt by the recurrence;
+// t in [0, 2 pi) (pv::angle_2pi).
 void basis(double t, uint32_t K, double *phi) {
-  const double c1 = std::cos(t), s1 = std::sin(t);
+  double s1, c1;
+  sin_cos(t, &s1, &c1);
   phi[0] = 1.0;
   double c = 1.0, s = 0.0;
   for (uint32_t k = 1; k <= K; ++k) {
@@ -80,8 +84,10 @@ bool polar_area(const XY *pts, size_t n, const PolarParams &p, double *scratch, 
   for (size_t i = 0; i < n; ++i) work[i] = pts[i].y_mm;
   const double cy = median_of(work, n);
   for (size_t i = 0; i < n; ++i) {
-    theta[i] = std::atan2(pts[i].y_mm - cy, pts[i].x_mm - cx);
-    r[i] = std::hypot(pts[i].x_mm - cx, pts[i].y_mm - cy);
+    // No libm (common/angle.h): the same bits on every target.
+    const double dx = pts[i].x_mm - cx, dy = pts[i].y_mm - cy;
+    theta[i] = angle_2pi(dy, dx);
+    r[i] = std::sqrt(dx * dx + dy * dy);
     keep[i] = 1;
   }
   // Largest angular gap: sort a copy of the angles.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "common/angle.h"
 #include "thinning/adaptive_thinning.h"
 
 namespace pv {
@@ -121,7 +122,7 @@ void fit_crescent_band(const XY *pts, size_t n, const Params &p, double *scratch
   for (size_t i = 0; i < n; ++i) {
     const double dx = pts[i].x_mm - info->center_x_mm;
     const double dy = pts[i].y_mm - info->center_y_mm;
-    if (in_window(std::atan2(dy, dx), p))
+    if (in_window(angle_pi(dy, dx), p))
       scratch[m++] = dist_mm(pts[i], info->center_x_mm, info->center_y_mm);
   }
   if (m == 0) {  // empty window: no point can satisfy the angle constraint
@@ -147,8 +148,8 @@ size_t compact_band(XY *pts, size_t n, const Params &p, const Info &info) {
   for (size_t i = 0; i < n; ++i) {
     if (!in_band(dist_mm(pts[i], info.center_x_mm, info.center_y_mm), info)) continue;
     if (use_angle) {
-      const double theta = std::atan2(pts[i].y_mm - info.center_y_mm,
-                                      pts[i].x_mm - info.center_x_mm);
+      const double theta = angle_pi(pts[i].y_mm - info.center_y_mm,
+                                    pts[i].x_mm - info.center_x_mm);
       if (!in_window(theta, p)) continue;
     }
     pts[w++] = pts[i];

@@ -1,9 +1,11 @@
-// The polar angle of a point, in [0, 2 pi), and the arc cosine, without libm.
+// The polar angle of a point, the arc cosine, the sine and the cosine,
+// without libm.
 //
 // Why not std::atan2: libm's atan2 is not guaranteed to round alike on
 // x86-64, aarch64 and newlib (the M7): the same-bits tests only showed it
-// did on the scans they replay. The rim plane's sectors use this one
-// (the surface model bins with surface/angle_bins.h instead). It
+// did on the scans they replay. The rim plane's sectors, the per-layer
+// methods' clustering and polar fit use this one (the surface model bins
+// with surface/angle_bins.h instead). It
 // uses + - * / and comparisons only, which IEEE 754 rounds the same way on
 // every target (the core is built with -ffp-contract=off), so its bits are
 // the same everywhere by construction.
@@ -59,6 +61,20 @@ inline double angle_2pi(double y, double x) {
   a = x < 0.0 ? kPi - a : a;
   return y < 0.0 ? kTwoPi - a : a;
 }
+
+// atan2(y, x) in (-pi, pi] (the range the crescent's angle window is
+// given in, core/clustering): angle_2pi, less 2 pi above pi. (0, 0) gives 0;
+// y = -0 with x < 0 gives pi, not atan2's -pi.
+inline double angle_pi(double y, double x) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double a = angle_2pi(y, x);
+  return a > kPi ? a - kTwoPi : a;
+}
+
+// sin a and cos a for a in [0, 2 pi], to about 1 ulp (angle.cpp: a Taylor
+// series, + - * / only). For the surface model's bin edges, the polar
+// fit's basis and the area fit's Chebyshev nodes.
+void sin_cos(double a, double *s, double *c);
 
 // acos(c) in [0, pi] for c in [-1, 1], without libm: the angle of
 // (c, sin), the sine as sqrt((1 - c)(1 + c)) (1 - c is exact near c = 1,

@@ -8,8 +8,8 @@
 // the diamond angles of the bins' edges. A coarse table of D gives the bin
 // to start from, so a lookup is a division and one or two comparisons.
 //
-// Same bits everywhere: the edges' directions come from sin_cos() below
-// (a Taylor series: + - * / only), D from + and /, so no libm function can
+// Same bits everywhere: the edges' directions come from pv::sin_cos()
+// (common/angle.h: a Taylor series, + - * / only), D from + and /, so no libm function can
 // round differently on another target (the core is built with
 // -ffp-contract=off). Points exactly on an edge go to the upper bin; a bin
 // differs from floor(atan2 * T / 2 pi) only within rounding of an edge.
@@ -20,9 +20,6 @@
 #include <cstdint>
 
 namespace pv::surface {
-
-// sin and cos of a in [0, 2 pi], to about 1 ulp.
-void sin_cos(double a, double *s, double *c);
 
 // Diamond angle of (x, y): 0 along +x, 1 along +y, 2 along -x, 3 along -y,
 // in [0, 4]; (0, 0) gives 0. Selects, not branches: the quadrant of a point

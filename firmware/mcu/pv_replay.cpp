@@ -5,8 +5,9 @@
 // and the bare-metal Cortex-M7 app (newlib, files and arguments through
 // semihosting under qemu-system-arm).
 //
-//   pv-replay [--mcu-config] SCAN.ply ...
-//   pv-replay [--mcu-config] --block-size   (pv_session_size, for the size report)
+//   pv-replay [--mcu-config] [--method NAME] SCAN.ply ...
+//   pv-replay [--mcu-config] [--method NAME] --block-size   (pv_session_size,
+//                                                         for the size report)
 //
 // Lines starting with '#' are for people (decimal values, block size);
 // every other line is "name hex-bits" and must match across targets.
@@ -166,8 +167,22 @@ int main(int argc, char **argv) {
     pv_mcu_config(&cfg);
     first = 2;
   }
+  // The per-layer methods too: every method's bits must match (no libm in
+  // the core, toolchain/check-core-libm.sh).
+  if (first + 1 < argc && strcmp(argv[first], "--method") == 0) {
+    const char *m = argv[first + 1];
+    if (strcmp(m, "paper") == 0) {
+      cfg.method = PV_METHOD_PAPER;
+    } else if (strcmp(m, "polar") == 0) {
+      cfg.method = PV_METHOD_POLAR;
+    } else if (strcmp(m, "surface") != 0) {
+      printf("pv-replay: unknown method '%s' (surface, paper or polar)\n", m);
+      return 2;
+    }
+    first += 2;
+  }
   if (first >= argc) {
-    printf("usage: pv-replay [--mcu-config] SCAN.ply ... | --block-size\n");
+    printf("usage: pv-replay [--mcu-config] [--method NAME] SCAN.ply ... | --block-size\n");
     return 2;
   }
   size_t need = 0;

@@ -1,7 +1,8 @@
-// The libm-free angles of the surface model and the rim plane against
-// libm's atan2, sin and cos (independent truth): pv::surface::AngleBins
-// (theta bins, bin centres, angle from a centre), pv::angle_2pi and
-// pv::angle_of_cos (against acos).
+// The core's libm-free angles (common/angle.h, surface/angle_bins.h) against
+// libm's atan2, sin and cos (independent truth): pv::sin_cos,
+// pv::surface::AngleBins (theta bins, bin centres, angle from a centre),
+// pv::angle_2pi, pv::angle_pi (against atan2) and pv::angle_of_cos
+// (against acos).
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
@@ -36,7 +37,7 @@ void sin_cos_match_libm(void **) {
   for (int i = 0; i <= 100000; ++i) {
     const double a = 2 * kPi * i / 100000.0;
     double s, c;
-    pv::surface::sin_cos(a, &s, &c);
+    pv::sin_cos(a, &s, &c);
     worst = std::fmax(worst, std::fmax(std::fabs(s - std::sin(a)), std::fabs(c - std::cos(a))));
   }
   assert_true(worst <= 4.5e-16);  // about 2 ulp of 1
@@ -110,6 +111,25 @@ void angle_2pi_matches_atan2(void **) {
   assert_true(std::fabs(pv::angle_2pi(-1.0, 0.0) - 1.5 * kPi) < 1e-15);
 }
 
+// The crescent window's angle (clustering) in atan2's range (-pi, pi].
+void angle_pi_matches_atan2(void **) {
+  Rng rng{6};
+  double worst = 0;
+  for (uint32_t i = 0; i < 400000; ++i) {
+    double x, y;
+    random_point(rng, i, &x, &y);
+    const double got = pv::angle_pi(y, x);
+    assert_true(got > -kPi && got <= kPi);
+    worst = std::fmax(worst, std::fabs(got - std::atan2(y, x)));
+  }
+  assert_true(worst <= 2 * 8.9e-16);  // 2 ulp of 2 pi (the 2 pi taken off)
+  assert_true(pv::angle_pi(0.0, 0.0) == 0.0);
+  assert_true(pv::angle_pi(0.0, -1.0) == kPi);
+  assert_true(pv::angle_pi(1.0, 0.0) == 0.5 * kPi);
+  assert_true(std::fabs(pv::angle_pi(-1.0, 0.0) + 0.5 * kPi) < 1e-15);
+  assert_true(std::fabs(pv::angle_pi(-1.0, -1.0) + 0.75 * kPi) < 1e-15);
+}
+
 // acos without libm: against std::acos over [-1, 1], densest near +-1
 // where the angle is small (the levelling's convergence test compares tilts
 // of 1e-4 deg) and relative accuracy is what matters.
@@ -139,6 +159,7 @@ int main() {
       cmocka_unit_test(bins_match_atan2),
       cmocka_unit_test(from_centre_matches_atan2),
       cmocka_unit_test(angle_2pi_matches_atan2),
+      cmocka_unit_test(angle_pi_matches_atan2),
       cmocka_unit_test(angle_of_cos_matches_acos),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
