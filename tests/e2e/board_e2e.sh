@@ -40,7 +40,9 @@ stop_board() {
 # matching lines. The board logs "screen X" once screen X is on display.
 wait_log() {
   local deadline=$((SECONDS + ${2:-60})) n=${3:-1}
-  until [ "$(grep -Ec -- "$1" "$work/board.log" 2>/dev/null)" -ge "$n" ]; do
+  local c
+  # (grep -c prints nothing for a log not written yet: that is 0.)
+  until c=$(grep -Ec -- "$1" "$work/board.log" 2>/dev/null); [ "${c:-0}" -ge "$n" ]; do
     [ $SECONDS -lt $deadline ] || fail "timed out waiting for '$1'"
     kill -0 "$pid" 2>/dev/null || fail "board exited while waiting for '$1'"
     sleep 0.1
@@ -302,7 +304,11 @@ serial_link)
   # StopScan mid-scan: Ack, then a result #2 (an Error too if no volume).
   # The watch runs until result 2 is there and, if it has no volume, the
   # Error after it (--count 1 would stop before the Error).
-  (printf 'start\n'; sleep 1.5; printf 'stop\n') | mon watch --json --seconds 120 >"$work/watch2.json" &
+  # The monitor itself in the background, not through mon(): killing the
+  # function's subshell would leave the monitor running, and it would read
+  # the replies meant for the fetch below.
+  (printf 'start\n'; sleep 1.5; printf 'stop\n') |
+    "$bin/pitvol-monitor" "$work/port" watch --json --seconds 120 >"$work/watch2.json" &
   wpid=$!
   deadline=$((SECONDS + 120))
   until grep -q '"type": "result", "id": 2, .*"status": "PV_OK"' "$work/watch2.json" ||
@@ -312,6 +318,7 @@ serial_link)
   done
   kill "$wpid" 2>/dev/null
   wait "$wpid" 2>/dev/null
+  ! pgrep -f "pitvol-monitor $work/port watch" >/dev/null || fail "the watch still runs"
   grep -q '"type": "ack", "command": "stop"' "$work/watch2.json" || fail "stop not acknowledged"
   grep -q '"type": "result", "id": 2, ' "$work/watch2.json" || fail "no result 2"
   if ! grep -q '"type": "result", "id": 2, .*"status": "PV_OK"' "$work/watch2.json"; then
