@@ -153,6 +153,9 @@ void pv_board_refusal_text(const pv_result_t *r, pv_status_t st, char *why, size
         case PV_PIT_CHECK_OPENING_TILT:
           snprintf(why, cap_why, "opening faces away");
           break;
+        case PV_PIT_CHECK_SECTIONS:
+          snprintf(why, cap_why, "layer outlines inconsistent");
+          break;
         default:
           snprintf(why, cap_why, "does not look like a pit");
           break;

@@ -33,6 +33,13 @@ constexpr uint64_t kMinPoints = 1000;
 // scan: refuse instead (PV_ERR_WALL_GAP). 20 mm passes the bands that
 // cleanup removes at sharp steps (protrusion faces) in the corpus.
 constexpr double kMaxWallGapMm = 20.0;
+// The most a volume may be of the largest kept section times the depth
+// (PV_PIT_CHECK_SECTIONS): 1 for sections as measured, plus what the end
+// extrapolation and the quadrature's noise may add. Corpus (paper and
+// polar, standard and held-out sets): 0.20 to 0.998, the top from the
+// nearly cylindrical shallow_wide scans, whose mean section is 0.998 of
+// their largest.
+constexpr double kMaxSectionsShare = 1.05;
 // pv_layer_info_t.kept of a fitted layer before the cleanup decides.
 constexpr uint8_t kUsablePending = 2;
 
@@ -325,6 +332,21 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
   if (!volume::volume_between_mm3(s->seq_z, s->seq_area, kept, lim, s->seq_scratch,
                                   s->seq_scratch_cap, &v_mm3)) {
     return fail(PV_ERR_INTERNAL);
+  }
+  // Sections between 0 and the largest kept one bound the volume to
+  // [0, largest x depth]; the quadrature's weights turn negative where
+  // cleanup left uneven spacing (volume.h, V1), so an erratic sequence
+  // (sections jumping 50-fold from layer to layer: fuzz_session, issue 9)
+  // can integrate to a negative or impossible volume. Refuse it.
+  double max_section = 0.0;
+  for (size_t i = 0; i < kept; ++i) max_section = std::max(max_section, s->seq_area[i]);
+  const double bound_mm3 = max_section * (rim_mm - lim.z_bottom_mm);
+  const double share = bound_mm3 > 0.0 ? v_mm3 / bound_mm3 : 0.0;
+  if (!(v_mm3 > 0.0) || !(share <= kMaxSectionsShare)) {
+    out->failed_check = PV_PIT_CHECK_SECTIONS;
+    out->check_value = share;
+    out->check_limit = kMaxSectionsShare;
+    return fail(PV_ERR_NOT_A_PIT);
   }
   out->volume_cm3 = v_mm3 / 1000.0;
   out->rim_area_mm2 = s->seq_area[kept - 1];

@@ -76,6 +76,7 @@ extern "C" const char *pv_pit_check_name(uint32_t check) {
     case PV_PIT_CHECK_NARROW_MOUTH: return "PV_PIT_CHECK_NARROW_MOUTH";
     case PV_PIT_CHECK_TOO_WIDE: return "PV_PIT_CHECK_TOO_WIDE";
     case PV_PIT_CHECK_OPENING_TILT: return "PV_PIT_CHECK_OPENING_TILT";
+    case PV_PIT_CHECK_SECTIONS: return "PV_PIT_CHECK_SECTIONS";
     default: return "PV_PIT_CHECK_UNKNOWN";
   }
 }
@@ -98,6 +99,11 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
     case PV_PIT_CHECK_OPENING_TILT:
       return "the opening faces away from the scanner (a mound, or the scanner "
              "frame upside down; max_opening_tilt_deg)";
+    case PV_PIT_CHECK_SECTIONS:
+      return "the layer sections integrate to no volume a pit of that depth "
+             "and width can hold (at most the largest section times the "
+             "depth, and more than 0): they jump too much from layer to "
+             "layer to be one pit's wall";
     default: return "unknown check";
   }
 }

@@ -76,6 +76,11 @@ std::string check_figures(const pv_result_t &r) {
       std::snprintf(b, sizeof b, "opening tilted %.1f deg from the scanner's view (at most %.1f)",
                     r.check_value, r.check_limit);
       break;
+    case PV_PIT_CHECK_SECTIONS:
+      std::snprintf(b, sizeof b,
+                    "volume %.3f x the largest section times the depth (a pit: above 0, at most %.2f)",
+                    r.check_value, r.check_limit);
+      break;
     default: std::snprintf(b, sizeof b, "no figure"); break;
   }
   return b;

@@ -71,9 +71,16 @@ typedef enum pv_pit_check {
   PV_PIT_CHECK_TOO_WIDE = 4,      /* value: the widest wall radius, mm; limit:
                                      the grids' radius (surface_max_radius_mm)
                                      less a margin */
-  PV_PIT_CHECK_OPENING_TILT = 5   /* value: the opening's tilt from the
+  PV_PIT_CHECK_OPENING_TILT = 5,  /* value: the opening's tilt from the
                                      scanner's view, deg; limit:
                                      max_opening_tilt_deg */
+  PV_PIT_CHECK_SECTIONS = 6       /* per-layer methods (paper, polar): value:
+                                     the volume over the largest kept section
+                                     times the depth; limit: 1.05 (sections
+                                     between 0 and the largest bound it to
+                                     [0, 1], plus the ends' extrapolation;
+                                     outside, or not above 0, the sequence is
+                                     too erratic to integrate) */
 } pv_pit_check_t;
 /* "PV_PIT_CHECK_POINTS_INSIDE", ... */
 const char *pv_pit_check_name(uint32_t check);
