@@ -13,6 +13,9 @@
 //    with a straight wall has quadratic S(z), so it is integrated exactly.
 //    With h1/h0 > 2 an outer weight turns negative (noise is amplified, not
 //    biased); cleanup removes isolated layers, so ratios stay near 1..3.
+//    On sections that jump many-fold from layer to layer the sum can go
+//    negative: measure() refuses a volume outside (0, 1.05 x the largest
+//    section x the depth] (PV_PIT_CHECK_SECTIONS, a fuzz finding).
 //
 // V2 Even count. The first n-1 layers (odd) use V1, the last pair uses the
 //    frustum V = h/3 (S1 + S2 + sqrt(S1 S2)) as in the paper's (26); exact for
