@@ -46,6 +46,7 @@ corpus=$(awk '{ print $NF }' <<<"$spec" | tr -d '"')
 mkdir -p "$dir/$name"
 log="$dir/$name.log"
 start=$(date -u +%Y-%m-%dT%H:%M:%SZ)
+commit=$(git rev-parse --short HEAD)  # the build's, read before the run
 rc=0
 nice -n 19 "build-fuzz/fuzz/$name" -runs=10000000 -max_total_time="$seconds" -seed="$seed" \
   -max_len="$max_len" -timeout=120 -rss_limit_mb=2048 -print_final_stats=1 \
@@ -57,7 +58,7 @@ last=$(tr '\r' '\n' <"$log" | grep -E '^#[0-9]+' | tail -1 || true)
 cov=$(sed -n 's/.* cov: \([0-9]*\).*/\1/p' <<<"$last")
 ft=$(sed -n 's/.* ft: \([0-9]*\).*/\1/p' <<<"$last")
 secs=$(( $(date -u +%s) - $(date -u -d "$start" +%s) ))
-echo "$start $(git rev-parse --short HEAD) $seed ${execs:-0} $secs ${cov:-0} ${ft:-0} $rc" >>"$dir/$name.runs"
+echo "$start $commit $seed ${execs:-0} $secs ${cov:-0} ${ft:-0} $rc" >>"$dir/$name.runs"
 echo "$name: ${execs:-0} executions in $secs s (edges ${cov:-?}, features ${ft:-?}), exit $rc; log $log"
 "$0" --total "$name"
 exit "$rc"
