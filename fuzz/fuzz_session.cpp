@@ -111,9 +111,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
 #endif
   if (size < 8) return 0;
   uint64_t seed;
-  std::memcpy(&seed, data, 8);
-  std::vector<pv_point_t> pts((size - 8) / 12);
-  if (!pts.empty()) std::memcpy(pts.data(), data + 8, pts.size() * 12);
+  const std::vector<pv_point_t> pts = pv::fuzz::input_points(data, size, &seed);
 
   // The bound for a PV_OK volume: 6 x the cube of the largest extent of the
   // points the core would accept.

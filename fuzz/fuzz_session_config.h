@@ -4,9 +4,22 @@
 #ifndef PV_FUZZ_SESSION_CONFIG_H
 #define PV_FUZZ_SESSION_CONFIG_H
 
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
 #include "pitvol/pitvol.h"
 
 namespace pv::fuzz {
+
+// The harnesses' input: 8 bytes of seed, then three raw floats a point
+// (a trailing partial point is ignored). size >= 8.
+inline std::vector<pv_point_t> input_points(const uint8_t *data, size_t size, uint64_t *seed) {
+  std::memcpy(seed, data, 8);
+  std::vector<pv_point_t> pts((size - 8) / 12);
+  if (!pts.empty()) std::memcpy(pts.data(), data + 8, pts.size() * 12);
+  return pts;
+}
 
 // The surface model's grids, smaller than the default's (2 deg, 2 mm cells
 // out to 320 mm: 5 MB written by every estimate and finish, most of an

@@ -170,13 +170,8 @@ int main(int argc, char **argv) {
   // The per-layer methods too: every method's bits must match (no libm in
   // the core, toolchain/check-core-libm.sh).
   if (first + 1 < argc && strcmp(argv[first], "--method") == 0) {
-    const char *m = argv[first + 1];
-    if (strcmp(m, "paper") == 0) {
-      cfg.method = PV_METHOD_PAPER;
-    } else if (strcmp(m, "polar") == 0) {
-      cfg.method = PV_METHOD_POLAR;
-    } else if (strcmp(m, "surface") != 0) {
-      printf("pv-replay: unknown method '%s' (surface, paper or polar)\n", m);
+    if (pv_method_from_name(argv[first + 1], &cfg.method) != PV_OK) {
+      printf("pv-replay: unknown method '%s' (surface, paper or polar)\n", argv[first + 1]);
       return 2;
     }
     first += 2;

@@ -20,6 +20,7 @@ struct TestSession {
   // The block holds fill in every float before init (a reused block).
   TestSession(void (*tweak)(pv_config_t *), float fill) : TestSession(tweak, &fill) {}
   // The configuration as given (cfg_in), not the default's.
+  explicit TestSession(const pv_config_t &cfg_in) : cfg(cfg_in) { open(nullptr); }
   TestSession(const pv_config_t &cfg_in, float fill) : cfg(cfg_in) { open(&fill); }
   ~TestSession() { std::free(block); }
   pv_status_t push_all(const std::vector<pv_point_t> &pts, size_t batch) {

@@ -9,10 +9,10 @@
 // live estimate read PV_ERR_NOT_A_PIT on a zeroed block and PV_ERR_WALL_GAP
 // on one filled with 50.0f, and the batching invariant failed on one filled
 // with 20.0f.
-#include <cstdio>
 #include <cstring>
 #include <vector>
 
+#include "fuzz_input.h"
 #include "fuzz_session_config.h"
 #include "session_support.h"
 #include "pv_cmocka.h"  // last: see pv_cmocka.h
@@ -59,23 +59,8 @@ void expect_same(const Outcome &a, const Outcome &b, float value) {
   }
 }
 
-std::vector<pv_point_t> regression_points() {
-  std::FILE *f = std::fopen(PV_REGRESSION_INPUT, "rb");
-  assert_non_null(f);
-  std::vector<unsigned char> bytes;
-  unsigned char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.insert(bytes.end(), buf, buf + n);
-  std::fclose(f);
-  assert_true(bytes.size() > 8);
-  // The harness's input: 8 bytes of seed, then three raw floats a point.
-  std::vector<pv_point_t> pts((bytes.size() - 8) / 12);
-  std::memcpy(pts.data(), bytes.data() + 8, pts.size() * 12);
-  return pts;
-}
-
 void test_rejected_wall_reads_no_stale_values(void **) {
-  const std::vector<pv_point_t> pts = regression_points();
+  const std::vector<pv_point_t> pts = fuzz_input_points(PV_REGRESSION_INPUT);
   assert_int_equal(pts.size(), 3689);
   // As the harness found it: its fine grids (seed bit 0 clear).
   pv_config_t fine;

@@ -9,39 +9,23 @@
 // V1) weighted some of them negatively and finish() returned PV_OK with
 // -3468.5 cm3.
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <vector>
 
+#include "fuzz_input.h"
 #include "fuzz_session_config.h"
 #include "session_support.h"
 #include "pv_cmocka.h"  // last: see pv_cmocka.h
 
 namespace {
 
-std::vector<pv_point_t> regression_points() {
-  std::FILE *f = std::fopen(PV_REGRESSION_INPUT, "rb");
-  assert_non_null(f);
-  std::vector<unsigned char> bytes;
-  unsigned char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.insert(bytes.end(), buf, buf + n);
-  std::fclose(f);
-  assert_true(bytes.size() > 8);
-  // The harness's input: 8 bytes of seed, then three raw floats a point.
-  std::vector<pv_point_t> pts((bytes.size() - 8) / 12);
-  std::memcpy(pts.data(), bytes.data() + 8, pts.size() * 12);
-  return pts;
-}
-
 void erratic_sections_are_refused(void **) {
-  const std::vector<pv_point_t> pts = regression_points();
+  const std::vector<pv_point_t> pts = fuzz_input_points(PV_REGRESSION_INPUT);
   assert_int_equal(pts.size(), 3752);
   // As the harness found it: method polar (seed bit 0 set), its small
   // configuration.
   pv_config_t cfg;
   pv::fuzz::session_config(&cfg, PV_METHOD_POLAR, pv::fuzz::Grids::Default);
-  TestSession t(cfg, 0.0f);
+  TestSession t(cfg);
   assert_non_null(t.s);
   assert_int_equal(pv_session_push(t.s, pts.data(), pts.size()), PV_OK);
   pv_result_t est{};
@@ -67,7 +51,7 @@ void real_pit_passes(void **) {
     pv_config_t cfg;
     pv_config_default(&cfg);
     cfg.method = m;
-    TestSession t(cfg, 0.0f);
+    TestSession t(cfg);
     assert_non_null(t.s);
     assert_int_equal(pv_session_push(t.s, pts.data(), pts.size()), PV_OK);
     pv_result_t r{};
