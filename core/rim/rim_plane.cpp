@@ -65,49 +65,55 @@ RimPlane fit_rim_plane(const SectorTops &t) {
     top[s] = sector_top(t, s);
     use[s] = top[s] >= 0;
   }
-  double a = 0, b = 0, c = 0;  // z = a + b x + c y
+  // The scanned tops, as doubles once: the consensus reads each 7140 times.
+  double px[kRimSectors], py[kRimSectors], pz[kRimSectors];
+  uint32_t nt = 0;
+  for (uint32_t s = 0; s < kRimSectors; ++s) {
+    if (!use[s]) continue;
+    px[nt] = double(t.x[s][top[s]]);
+    py[nt] = double(t.y[s][top[s]]);
+    pz[nt] = double(t.z[s][top[s]]);
+    ++nt;
+  }
   // Consensus first: every triple of sector tops (36 choose 3 = 7140) as a
   // plane; the one with most tops within kOnPlaneMm wins. A few sectors
   // whose top was not scanned (their highest points are lower wall) then
-  // cannot tilt the start of the least squares.
+  // cannot tilt the start of the least squares. A triple's plane is its
+  // normal m = (p_j - p_i) x (p_k - p_i); a top's height above it is
+  // m . (p - p_i) / m_z, so the test needs no solve and no division. Only
+  // which tops the winner keeps goes on: the least squares below refit the
+  // plane from them.
+  double m[3] = {0, 0, 1}, o[3] = {0, 0, 0};  // no triple: the plane z = 0
   uint32_t best = 0;
-  for (uint32_t i = 0; i < kRimSectors; ++i) {
-    if (!use[i]) continue;
-    for (uint32_t j = i + 1; j < kRimSectors; ++j) {
-      if (!use[j]) continue;
-      for (uint32_t k = j + 1; k < kRimSectors; ++k) {
-        if (!use[k]) continue;
-        Eigen::Matrix3d A;
-        Eigen::Vector3d r;
-        const uint32_t idx[3] = {i, j, k};
-        for (int q = 0; q < 3; ++q) {
-          const uint32_t s = idx[q];
-          A.row(q) << 1.0, double(t.x[s][top[s]]), double(t.y[s][top[s]]);
-          r(q) = double(t.z[s][top[s]]);
-        }
-        if (std::fabs(A.determinant()) < 1e-6) continue;
-        const Eigen::Vector3d sol = A.partialPivLu().solve(r);
+  for (uint32_t i = 0; i < nt; ++i) {
+    for (uint32_t j = i + 1; j < nt; ++j) {
+      const double ux = px[j] - px[i], uy = py[j] - py[i], uz = pz[j] - pz[i];
+      for (uint32_t k = j + 1; k < nt; ++k) {
+        const double vx = px[k] - px[i], vy = py[k] - py[i], vz = pz[k] - pz[i];
+        const double mz = ux * vy - uy * vx;  // the determinant of the triple's solve
+        if (std::fabs(mz) < 1e-6) continue;   // tops in a line: no plane
+        const double mx = uy * vz - uz * vy, my = uz * vx - ux * vz;
+        const double tol = kOnPlaneMm * std::fabs(mz);
         uint32_t cnt = 0;
-        for (uint32_t s = 0; s < kRimSectors; ++s) {
-          if (top[s] < 0) continue;
-          const double e = double(t.z[s][top[s]]) -
-                           (sol(0) + sol(1) * t.x[s][top[s]] + sol(2) * t.y[s][top[s]]);
-          cnt += std::fabs(e) <= kOnPlaneMm;
+        for (uint32_t q = 0; q < nt; ++q) {
+          const double e = mx * (px[q] - px[i]) + my * (py[q] - py[i]) + mz * (pz[q] - pz[i]);
+          cnt += std::fabs(e) <= tol;
         }
         if (cnt > best) {
           best = cnt;
-          a = sol(0);
-          b = sol(1);
-          c = sol(2);
+          m[0] = mx, m[1] = my, m[2] = mz;
+          o[0] = px[i], o[1] = py[i], o[2] = pz[i];
         }
       }
     }
   }
   for (uint32_t s = 0; s < kRimSectors; ++s) {
     if (top[s] < 0) continue;
-    const double e = double(t.z[s][top[s]]) - (a + b * t.x[s][top[s]] + c * t.y[s][top[s]]);
-    use[s] = std::fabs(e) <= kOnPlaneMm;
+    const double e = m[0] * (double(t.x[s][top[s]]) - o[0]) + m[1] * (double(t.y[s][top[s]]) - o[1]) +
+                     m[2] * (double(t.z[s][top[s]]) - o[2]);
+    use[s] = std::fabs(e) <= kOnPlaneMm * std::fabs(m[2]);
   }
+  double a = 0, b = 0, c = 0;  // z = a + b x + c y
   for (int round = 0; round < 3; ++round) {
     Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
     Eigen::Vector3d r = Eigen::Vector3d::Zero();

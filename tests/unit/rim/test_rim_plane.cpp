@@ -1,0 +1,118 @@
+// The rim as a plane through the sector tops (method surface's lid when the
+// scan has no ground ring): known tilted planes, unscanned tops, strays.
+#include <cmath>
+
+#include "rim/rim_plane.h"
+#include "test_rng.h"
+#include "pv_cmocka.h"  // last: see pv_cmocka.h
+
+namespace {
+
+using pv::rim::kRimSectors;
+using pv::test::kPi;
+using pv::test::Rng;
+
+constexpr double kCx = 12.0, kCy = -7.0, kRadius = 110.0;
+
+struct Lid {
+  double z0, bx, by;  // z = z0 + bx x + by y
+  double at(double x, double y) const { return z0 + bx * x + by * y; }
+};
+
+// A pit wall of radius 110 around (12, -7) up to the lid: in each sector
+// the top point on the lid, two more 1 and 2 mm below it, then wall points
+// further down. Sectors in `low` were not scanned to the top: their points
+// stop `drop_mm` below the lid.
+pv::rim::SectorTops wall_under(const Lid &lid, uint64_t low, double drop_mm, Rng &r) {
+  pv::rim::SectorTops t;
+  t.clear(kCx, kCy);
+  for (uint32_t s = 0; s < kRimSectors; ++s) {
+    const double th = (s + 0.2 + 0.6 * r.uniform()) * 2 * kPi / kRimSectors;
+    const double x = kCx + kRadius * std::cos(th), y = kCy + kRadius * std::sin(th);
+    const double top = lid.at(x, y) - ((low >> s) & 1 ? drop_mm : 0.0);
+    for (int k = 0; k < 12; ++k) t.offer(x, y, top - (k < 3 ? k : 5.0 * k));
+  }
+  return t;
+}
+
+// The lid's normal and offset as fit_rim_plane reports them.
+void expect_plane(const pv::rim::RimPlane &p, const Lid &lid) {
+  const Eigen::Vector3d n = Eigen::Vector3d(-lid.bx, -lid.by, 1.0).normalized();
+  assert_true((p.normal - n).norm() < 1e-6);
+  assert_true(std::fabs(p.d - n.z() * lid.z0) < 1e-3);  // mm; float storage
+}
+
+void finds_a_tilted_rim(void **) {
+  Rng r{7};
+  const Lid lid{283.0, 0.05, -0.03};  // 3.3 deg
+  const pv::rim::RimPlane p = pv::rim::fit_rim_plane(wall_under(lid, 0, 0, r));
+  assert_true(p.found);
+  assert_int_equal(p.sectors, kRimSectors);
+  assert_true(p.rms_mm < 1e-4);
+  expect_plane(p, lid);
+}
+
+void unscanned_tops_do_not_tilt_it(void **) {
+  // Eight sectors' highest points are wall 20 mm down: the consensus leaves
+  // them out, and the plane is still the lid through the other 28.
+  Rng r{8};
+  const Lid lid{250.0, -0.02, 0.04};
+  uint64_t low = 0;
+  for (const int s : {1, 2, 3, 10, 17, 25, 26, 33}) low |= uint64_t{1} << s;
+  const pv::rim::RimPlane p = pv::rim::fit_rim_plane(wall_under(lid, low, 20.0, r));
+  assert_true(p.found);
+  assert_int_equal(p.sectors, kRimSectors - 8);
+  expect_plane(p, lid);
+}
+
+void a_stray_above_the_rim_is_not_a_top(void **) {
+  // A lone point 40 mm above the lid in every sector (no two more within
+  // 3 mm below it): the sector top is the lid's point under it.
+  Rng r{9};
+  const Lid lid{300.0, 0.01, 0.01};
+  pv::rim::SectorTops t = wall_under(lid, 0, 0, r);
+  for (uint32_t s = 0; s < kRimSectors; ++s) {
+    const double th = (s + 0.5) * 2 * kPi / kRimSectors;
+    const double x = kCx + 60 * std::cos(th), y = kCy + 60 * std::sin(th);
+    t.offer(x, y, lid.at(x, y) + 40.0);
+  }
+  const pv::rim::RimPlane p = pv::rim::fit_rim_plane(t);
+  assert_true(p.found);
+  assert_int_equal(p.sectors, kRimSectors);
+  expect_plane(p, lid);
+}
+
+void too_few_sectors_on_a_plane(void **) {
+  // Every other sector's top 20 mm down: 18 tops on either plane, under 24.
+  Rng r{10};
+  const pv::rim::RimPlane p =
+      pv::rim::fit_rim_plane(wall_under(Lid{283.0, 0, 0}, 0x555555555ull, 20.0, r));
+  assert_false(p.found);
+}
+
+void too_steep_is_not_a_rim(void **) {
+  // 0.19 mm/mm is 10.8 deg, beyond the 10 deg a scan is levelled within.
+  Rng r{11};
+  assert_false(pv::rim::fit_rim_plane(wall_under(Lid{283.0, 0.19, 0}, 0, 0, r)).found);
+  assert_true(pv::rim::fit_rim_plane(wall_under(Lid{283.0, 0.17, 0}, 0, 0, r)).found);
+}
+
+void an_empty_scan_has_no_rim(void **) {
+  pv::rim::SectorTops t;
+  t.clear(0, 0);
+  assert_false(pv::rim::fit_rim_plane(t).found);
+}
+
+}  // namespace
+
+int main() {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(finds_a_tilted_rim),
+      cmocka_unit_test(unscanned_tops_do_not_tilt_it),
+      cmocka_unit_test(a_stray_above_the_rim_is_not_a_top),
+      cmocka_unit_test(too_few_sectors_on_a_plane),
+      cmocka_unit_test(too_steep_is_not_a_rim),
+      cmocka_unit_test(an_empty_scan_has_no_rim),
+  };
+  return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
