@@ -14,19 +14,28 @@ namespace {
 // lie outside the pit): the same fills, without eight scans of the map.
 constexpr float kQueuedCell = -1.0e30f;  // an empty cell's value, while queued
 
+// fn(j) for the index j of each of cell (x, y)'s four neighbours inside the
+// C x C map, in a fixed order (+x, -x, +y, -y): the fill's sums add in it.
+template <class Fn>
+inline void for_each_neighbour(uint32_t C, uint32_t x, uint32_t y, Fn &&fn) {
+  for (int d = 0; d < 4; ++d) {
+    const int xx = int(x) + (d == 0) - (d == 1), yy = int(y) + (d == 2) - (d == 3);
+    if (xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
+    fn(size_t(yy) * C + size_t(xx));
+  }
+}
+
 void fill_floor_cell(Workspace &ws, uint32_t C, uint32_t x, uint32_t y, size_t *k) {
   const size_t i = size_t(y) * C + x;
   if (ws.floor[i].state != kEmpty) return;
   double s = 0;
   int cnt = 0;
-  for (int d = 0; d < 4; ++d) {
-    const int xx = int(x) + (d == 0) - (d == 1), yy = int(y) + (d == 2) - (d == 3);
-    if (xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
-    const FloorCell &o = ws.floor[size_t(yy) * C + size_t(xx)];
-    if (o.state == kEmpty) continue;
+  for_each_neighbour(C, x, y, [&](size_t j) {
+    const FloorCell &o = ws.floor[j];
+    if (o.state == kEmpty) return;
     s += o.value;
     ++cnt;
-  }
+  });
   if (cnt < 2) return;
   ws.fill_idx[*k] = uint32_t(i);
   ws.fill_val[*k] = float(s / cnt);
@@ -72,16 +81,12 @@ void flood_floor(Workspace &ws, const Geo &g, const Params &p, const CellBox &bo
     const uint32_t i = ws.queue[head++];
     const uint32_t x = i % C, y = i / C;
     const float v = ws.floor[i].value;
-    for (int d = 0; d < 4; ++d) {
-      const int xx = int(x) + (d == 0) - (d == 1), yy = int(y) + (d == 2) - (d == 3);
-      if (xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
-      const size_t j = size_t(yy) * C + size_t(xx);
+    for_each_neighbour(C, x, y, [&](size_t j) {
       FloorCell &o = ws.floor[j];
-      if (o.state == kEmpty || o.state == kFloor) continue;
-      if (o.value > v + rise) continue;
+      if (o.state == kEmpty || o.state == kFloor || o.value > v + rise) return;
       o.state = kFloor;
       ws.queue[tail++] = uint32_t(j);
-    }
+    });
   }
 }
 
@@ -142,15 +147,12 @@ void fill_floor(Workspace &ws, const Geo &g, CellBox *box) {
     queued = 0;
     for (size_t q = 0; q < k; ++q) {
       const uint32_t i = ws.fill_idx[q], x = i % C, y = i / C;
-      for (int d = 0; d < 4; ++d) {
-        const int xx = int(x) + (d == 0) - (d == 1), yy = int(y) + (d == 2) - (d == 3);
-        if (xx < 0 || yy < 0 || xx >= int(C) || yy >= int(C)) continue;
-        const size_t j = size_t(yy) * C + size_t(xx);
+      for_each_neighbour(C, x, y, [&](size_t j) {
         FloorCell &o = ws.floor[j];
-        if (o.state != kEmpty || o.value == kQueuedCell) continue;
+        if (o.state != kEmpty || o.value == kQueuedCell) return;
         o.value = kQueuedCell;
         ws.queue[queued++] = uint32_t(j);
-      }
+      });
     }
   }
   for (size_t q = 0; q < queued; ++q) ws.floor[ws.queue[q]].value = 0.0f;
