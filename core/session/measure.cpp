@@ -348,8 +348,14 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
     out->check_limit = kMaxSectionsShare;
     return fail(PV_ERR_NOT_A_PIT);
   }
+  // One open pit? Method surface's checks on the same points, last: the
+  // model overlays the per-layer stages' scratch, and its sections replace
+  // the area sequence.
+  const double rim_area_mm2 = s->seq_area[kept - 1];
+  const pv_status_t shape = check_pit_shape(s, t, rim_mm, out);
+  if (shape != PV_OK) return fail(shape);
   out->volume_cm3 = v_mm3 / 1000.0;
-  out->rim_area_mm2 = s->seq_area[kept - 1];
+  out->rim_area_mm2 = rim_area_mm2;
   out->status = PV_OK;
   return PV_OK;
 }

@@ -149,15 +149,17 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->polar_scratch = cv.take<double>(o->polar_scratch_cap);
   o->theta_cache = nullptr;
   o->theta_cache_cap = 0;
+  // The surface model overlays that scratch. Method surface builds it in
+  // measure_surface(), after the levelling, the rim and the layer counts are
+  // done with the scratch; paper and polar build it for their plausibility
+  // checks (check_pit_shape()), after their per-layer stages. It is not read
+  // after either returns.
+  const size_t scratch_end = cv.used();
+  cv.rewind(scratch_at);
+  const surface::Capacity sc = surface_capacity(c);
+  void *surf_mem = cv.take<unsigned char>(surface::bytes_needed(sc));
+  if (block != nullptr) surface::make_workspace(surf_mem, sc, &o->surf);
   if (c.method == PV_METHOD_SURFACE) {
-    // The surface model overlays that scratch: it is built in measure_surface(),
-    // after the levelling, the rim and the layer order are done with it, and
-    // is not read after it returns. Its own scratch is the larger part.
-    const size_t scratch_end = cv.used();
-    cv.rewind(scratch_at);
-    const surface::Capacity sc = surface_capacity(c);
-    void *mem = cv.take<unsigned char>(surface::bytes_needed(sc));
-    if (block != nullptr) surface::make_workspace(mem, sc, &o->surf);
     // One byte per stored point: its theta bin, computed by the first pass
     // over the points and read by the others (issue 12). A speed-up for
     // configurations that store many points (the default: 1.4 MB, 4.5 % of
@@ -168,8 +170,8 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
       o->theta_cache_cap = cache;
       o->theta_cache = cv.take<uint8_t>(cache);
     }
-    if (cv.used() < scratch_end) cv.rewind(scratch_end);
   }
+  if (cv.used() < scratch_end) cv.rewind(scratch_end);
   return cv.used();
 }
 

@@ -67,7 +67,7 @@ inline uint32_t grid_layers(const pv_config_t &c) {
 // (65,536 by default; a full store thins itself like a layer bin).
 constexpr double kFloorStoreTopMm = 20.0;
 
-// The surface model's grids (method surface only): the whole depth range,
+// The surface model's grids (method surface; paper's and polar's checks): the whole depth range,
 // and pits up to pv_config_t.surface_max_radius_mm around their axis; bin
 // sizes from the configuration too (the MCU profile's are coarser).
 inline surface::Params surface_params(const pv_config_t &c) {
@@ -186,6 +186,11 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
 // both see the same points in the same order (every stride-th of a bin).
 surface::Status build_surface_model(pv_session *s, const levelling::Transform &t, double rim_mm,
                                     uint32_t stride, const surface::Params &p, surface::Model *m);
+// Paper and polar: method surface's plausibility checks on the same points
+// (measure_surface.cpp); overwrites the area sequence. PV_OK, or the status
+// to refuse with.
+pv_status_t check_pit_shape(pv_session *s, const levelling::Transform &t, double rim_mm,
+                            pv_result_t *out);
 
 }  // namespace pv::session
 
