@@ -107,7 +107,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
 #ifdef PV_FUZZ_SURFACE
   static Block fine(PV_METHOD_SURFACE, Grids::Fine), coarse(PV_METHOD_SURFACE, Grids::Coarse);
 #else
-  static Block paper(PV_METHOD_PAPER), polar(PV_METHOD_POLAR);
+  // The fine grids for the surface model that paper's and polar's
+  // plausibility checks build (the default's would double an execution).
+  static Block paper(PV_METHOD_PAPER, Grids::Fine), polar(PV_METHOD_POLAR, Grids::Fine);
 #endif
   if (size < 8) return 0;
   uint64_t seed;
