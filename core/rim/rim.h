@@ -43,7 +43,8 @@ Ground detect_ground(const Eigen::Vector3d *pts, size_t n, const Params &p,
 // uneven hand-dug floor), and the volume is defined below the ground.
 // Deterministic RANSAC (fixed sequence) on the top band of the levelled
 // sample, then least squares on the inliers. Found when the plane holds
-// ground_share of the band and is within max_tilt_deg of horizontal.
+// ground_share of the band and is within 20 deg of horizontal (the levelling
+// it corrects can be 12 deg off on a bowl).
 struct GroundPlane {
   bool found = false;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // upward

@@ -14,7 +14,10 @@ constexpr float kNone = -1.0e30f;
 constexpr uint32_t kMinSectors = 24;
 constexpr double kOnPlaneMm = 2.0;
 constexpr double kMaxRmsMm = 1.5;
-constexpr double kMaxTiltDeg = 10.0;
+// The most the rim plane may correct the floor-plane levelling: a bowl
+// scanned from one side without ground was 12 deg off (pitvol-sim scan
+// --family bowl --no-ground --arc 180 --seed 5: +10.2 % at the old 10 deg).
+constexpr double kMaxTiltDeg = 20.0;
 
 }  // namespace
 

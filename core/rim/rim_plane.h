@@ -35,7 +35,7 @@ struct RimPlane {
 };
 
 // A plane through the sector tops: found with at least 24 sectors on it
-// (residual under 2 mm), an RMS under 1.5 mm and within 10 deg of level.
+// (residual under 2 mm), an RMS under 1.5 mm and within 20 deg of level.
 RimPlane fit_rim_plane(const SectorTops &tops);
 
 }  // namespace pv::rim

@@ -1,0 +1,68 @@
+// Bowls scanned from one side, through the simulator and the default method.
+// A bowl has no flat floor, so the floor-plane levelling that method surface
+// starts from can be 12 deg off when the operator walks only part of the way
+// round; the ground plane (or, without ground, the rim plane) must still
+// level the scan. Until 2026-12-02 both gave up beyond 10 deg and the volume
+// was taken under a tilted lid: +22.5 % (ground, 300 deg arc, seed 5) and
+// +10.2 % (no ground, 180 deg, seed 5), with PV_OK and an interval of 1.5 and
+// 0.3 %. Each case must measure within its interval of the exact volume.
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+#include "pitvol/pitvol.h"
+#include "sim/handheld_scan.h"
+#include "sim/pit_geometry.h"
+#include "pv_cmocka.h"  // last: see pv_cmocka.h
+
+namespace {
+
+struct Case {
+  bool ground;
+  double arc_deg;
+  uint64_t seed;
+};
+
+// As `pitvol-sim scan --family bowl [--no-ground] --arc A --seed S` makes it.
+void measures_within_its_interval(const Case &c) {
+  const pv::sim::Pit pit = pv::sim::make_pit(pv::sim::Family::Bowl, c.ground, c.seed);
+  pv::sim::ScanParams sp;
+  sp.seed = c.seed;
+  sp.path_arc_deg = c.arc_deg;
+  pv::sim::HandheldScan scan(pit, sp);
+  pv_config_t cfg;
+  pv_config_default(&cfg);
+  size_t bytes = 0;
+  assert_int_equal(pv_session_size(&cfg, &bytes), PV_OK);
+  void *block = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
+  pv_session_t *s = nullptr;
+  assert_int_equal(pv_session_init(&cfg, block, bytes, &s), PV_OK);
+  pv::sim::Frame f;
+  while (scan.next(&f)) assert_int_equal(pv_session_push(s, f.points.data(), f.points.size()), PV_OK);
+  pv_result_t r{};
+  const pv_status_t st = pv_session_finish(s, &r);
+  std::free(block);
+  const double exact = pit.volume_mm3 / 1000.0;
+  if (st != PV_OK) fail_msg("bowl %s arc %.0f seed %llu: %s", c.ground ? "ground" : "no ground", c.arc_deg,
+                            (unsigned long long)c.seed, pv_status_name(st));
+  if (!(std::fabs(r.volume_cm3 - exact) <= r.interval_cm3)) {
+    fail_msg("bowl %s arc %.0f seed %llu: %.1f +/- %.1f cm3, exact %.1f (%+.2f %%)",
+             c.ground ? "ground" : "no ground", c.arc_deg, (unsigned long long)c.seed, r.volume_cm3,
+             r.interval_cm3, exact, 100.0 * (r.volume_cm3 - exact) / exact);
+  }
+}
+
+void ground_ring_300_degrees(void **) { measures_within_its_interval({true, 300.0, 5}); }
+void ground_ring_180_degrees(void **) { measures_within_its_interval({true, 180.0, 6}); }
+void no_ground_180_degrees(void **) { measures_within_its_interval({false, 180.0, 5}); }
+
+}  // namespace
+
+int main() {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(ground_ring_300_degrees),
+      cmocka_unit_test(ground_ring_180_degrees),
+      cmocka_unit_test(no_ground_180_degrees),
+  };
+  return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
