@@ -57,6 +57,7 @@ struct Params {
   double floor_wall_margin_mm = 3.0;  // floor cells this close to the wall are its foot
   double floor_max_rise_mm = 1.5;  // a larger step from cell to cell is not floor
   uint32_t short_gap_bins = 4;     // a bridge this short is interpolation, not unseen wall
+  double wide_gap_deg = 30.0;      // unknown wall this wide at one height: a side unseen
   // Coarse wall bins with a few points each (the MCU profile, docs/targets.md):
   // a bin too sparse to fit its slope along the angle borrows it from its
   // neighbours, and the interval counts what such bins cannot resolve

@@ -1,11 +1,20 @@
-// Bowls scanned from one side, through the simulator and the default method.
-// A bowl has no flat floor, so the floor-plane levelling that method surface
+// Pits scanned from one side, through the simulator and the default method.
+//
+// Bowls. A bowl has no flat floor, so the floor-plane levelling that method surface
 // starts from can be 12 deg off when the operator walks only part of the way
 // round; the ground plane (or, without ground, the rim plane) must still
 // level the scan. Until 2026-12-02 both gave up beyond 10 deg and the volume
 // was taken under a tilted lid: +22.5 % (ground, 300 deg arc, seed 5) and
 // +10.2 % (no ground, 180 deg, seed 5), with PV_OK and an interval of 1.5 and
-// 0.3 %. Each case must measure within its interval of the exact volume.
+// 0.3 %.
+//
+// A third of the way round. The wall below the operator is bridged from the
+// seen wall beside it; where it hides an undercut the bridge lies inside it,
+// and the interval, from the same neighbours, did not hold the truth
+// (deep_narrow -2.08 % against +/-0.43 %, bulge -0.70 % against +/-0.48 %).
+// Such wall's interval now spans the radii seen at its height.
+//
+// Each case must measure within its interval of the exact volume.
 #include <cmath>
 #include <cstdlib>
 #include <vector>
@@ -18,14 +27,15 @@
 namespace {
 
 struct Case {
+  pv::sim::Family family;
   bool ground;
   double arc_deg;
   uint64_t seed;
 };
 
-// As `pitvol-sim scan --family bowl [--no-ground] --arc A --seed S` makes it.
+// As `pitvol-sim scan --family F [--no-ground] --arc A --seed S` makes it.
 void measures_within_its_interval(const Case &c) {
-  const pv::sim::Pit pit = pv::sim::make_pit(pv::sim::Family::Bowl, c.ground, c.seed);
+  const pv::sim::Pit pit = pv::sim::make_pit(c.family, c.ground, c.seed);
   pv::sim::ScanParams sp;
   sp.seed = c.seed;
   sp.path_arc_deg = c.arc_deg;
@@ -43,26 +53,32 @@ void measures_within_its_interval(const Case &c) {
   const pv_status_t st = pv_session_finish(s, &r);
   std::free(block);
   const double exact = pit.volume_mm3 / 1000.0;
-  if (st != PV_OK) fail_msg("bowl %s arc %.0f seed %llu: %s", c.ground ? "ground" : "no ground", c.arc_deg,
+  const char *fam = pv::sim::family_name(c.family);
+  if (st != PV_OK) fail_msg("%s %s arc %.0f seed %llu: %s", fam, c.ground ? "ground" : "no ground", c.arc_deg,
                             (unsigned long long)c.seed, pv_status_name(st));
   if (!(std::fabs(r.volume_cm3 - exact) <= r.interval_cm3)) {
-    fail_msg("bowl %s arc %.0f seed %llu: %.1f +/- %.1f cm3, exact %.1f (%+.2f %%)",
+    fail_msg("%s %s arc %.0f seed %llu: %.1f +/- %.1f cm3, exact %.1f (%+.2f %%)", fam,
              c.ground ? "ground" : "no ground", c.arc_deg, (unsigned long long)c.seed, r.volume_cm3,
              r.interval_cm3, exact, 100.0 * (r.volume_cm3 - exact) / exact);
   }
 }
 
-void ground_ring_300_degrees(void **) { measures_within_its_interval({true, 300.0, 5}); }
-void ground_ring_180_degrees(void **) { measures_within_its_interval({true, 180.0, 6}); }
-void no_ground_180_degrees(void **) { measures_within_its_interval({false, 180.0, 5}); }
+using pv::sim::Family;
+void bowl_ground_ring_300_degrees(void **) { measures_within_its_interval({Family::Bowl, true, 300.0, 5}); }
+void bowl_ground_ring_180_degrees(void **) { measures_within_its_interval({Family::Bowl, true, 180.0, 6}); }
+void bowl_no_ground_180_degrees(void **) { measures_within_its_interval({Family::Bowl, false, 180.0, 5}); }
+void deep_narrow_120_degrees(void **) { measures_within_its_interval({Family::DeepNarrow, true, 120.0, 3}); }
+void bulge_120_degrees(void **) { measures_within_its_interval({Family::Bulge, true, 120.0, 2}); }
 
 }  // namespace
 
 int main() {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(ground_ring_300_degrees),
-      cmocka_unit_test(ground_ring_180_degrees),
-      cmocka_unit_test(no_ground_180_degrees),
+      cmocka_unit_test(bowl_ground_ring_300_degrees),
+      cmocka_unit_test(bowl_ground_ring_180_degrees),
+      cmocka_unit_test(bowl_no_ground_180_degrees),
+      cmocka_unit_test(deep_narrow_120_degrees),
+      cmocka_unit_test(bulge_120_degrees),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
