@@ -67,23 +67,17 @@ void sector_tops(const pv_session *s, const levelling::Transform &t, rim::Sector
 
 }  // namespace
 
-SurfaceLevel level_for_surface(pv_session *s, levelling::Transform *t) {
-  SurfaceLevel out;
-  if (level_on_ground(s, t)) {
-    out.levelled = true;
-    return out;
-  }
+double level_for_surface(pv_session *s, levelling::Transform *t) {
+  if (level_on_ground(s, t)) return -1.0;
   rim::SectorTops tops;
   sector_tops(s, *t, &tops);
   const rim::RimPlane rp = rim::fit_rim_plane(tops);
-  if (!rp.found) return out;
+  if (!rp.found) return -1.0;
   rotate_onto_z(rp.normal, t);
   // The rim plane's height after the rotation: the rotated plane is
   // z = d (its normal is +Z, its offset unchanged by a rotation about the
   // origin).
-  out.levelled = true;
-  out.rim_mm = rp.d;
-  return out;
+  return rp.d;
 }
 
 }  // namespace pv::session

@@ -241,15 +241,7 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
 
   // Method surface levels on the ground or the rim plane (level_surface.cpp).
   double surface_rim_mm = -1.0;
-  if (s->cfg.method == PV_METHOD_SURFACE) {
-    const SurfaceLevel lv = level_for_surface(s, &t);
-    // Neither a ground ring nor a rim plane: the lid would rest on the
-    // floor plane's levelling alone, which on a bowl can be 12 deg off
-    // (+10 to +22 % before those two were looked for within 20 deg).
-    // No corpus or sweep scan gets here (docs/accuracy.md); refuse.
-    if (!lv.levelled) return fail(PV_ERR_NO_RIM);
-    surface_rim_mm = lv.rim_mm;
-  }
+  if (s->cfg.method == PV_METHOD_SURFACE) surface_rim_mm = level_for_surface(s, &t);
   // The rim: the rim plane (method surface without a ground ring), else
   // the ground ring, else the top of the wall over the final layers.
   double rim_mm = surface_rim_mm;

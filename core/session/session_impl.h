@@ -174,14 +174,9 @@ void establish_transform(pv_session *s);
 // estimate() and finish() share this; it reads the bins, writes scratch.
 pv_status_t measure(pv_session *s, pv_result_t *out);
 // Method surface: re-levels t on the ground ring when the scan has one, else
-// on the rim plane (the wall's top edge).
-struct SurfaceLevel {
-  bool levelled = false;  // on the ground ring or the rim plane; else t is
-                          // the floor plane's alone, and the lid undefined
-  double rim_mm = -1.0;   // the rim's height when the rim plane set it, else
-                          // negative (the rim stage decides)
-};
-SurfaceLevel level_for_surface(pv_session *s, levelling::Transform *t);
+// on the rim plane (the wall's top edge). Returns the rim height when the
+// rim plane set it, else a negative value (the rim stage decides).
+double level_for_surface(pv_session *s, levelling::Transform *t);
 // The surface method's part of measure(): from the levelled stored points,
 // the rim and the bottom of the grid to the result (measure_surface.cpp).
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,

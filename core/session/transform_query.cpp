@@ -44,12 +44,7 @@ pv_status_t query(pv_session *s, pv_transform_t *out) {
   // As measure(): method surface re-levels (ground ring, else rim plane)
   // before the layers are assigned.
   double surface_rim_mm = -1.0;
-  bool lid_levelled = true;  // measure() refuses a scan without (PV_ERR_NO_RIM)
-  if (s->cfg.method == PV_METHOD_SURFACE) {
-    const SurfaceLevel lv = level_for_surface(s, &t);
-    lid_levelled = lv.levelled;
-    surface_rim_mm = lv.rim_mm;
-  }
+  if (s->cfg.method == PV_METHOD_SURFACE) surface_rim_mm = level_for_surface(s, &t);
   layer_weights(s, t);
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) out->rotation[3 * r + c] = t.R(r, c);
@@ -66,7 +61,7 @@ pv_status_t query(pv_session *s, pv_transform_t *out) {
     out->rim_from_ground = 0u;  // the rim plane (no ground ring)
     out->rim_mm = surface_rim_mm;
   }
-  if (!lid_levelled || !(out->rim_mm > 0.0)) {
+  if (!(out->rim_mm > 0.0)) {
     out->rim_mm = -1.0;
     return PV_ERR_NO_RIM;
   }
