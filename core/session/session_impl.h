@@ -67,9 +67,10 @@ inline uint32_t grid_layers(const pv_config_t &c) {
 // (65,536 by default; a full store thins itself like a layer bin).
 constexpr double kFloorStoreTopMm = 20.0;
 
-// The surface model's grids (method surface; paper's and polar's checks): the whole depth range,
-// and pits up to pv_config_t.surface_max_radius_mm around their axis; bin
-// sizes from the configuration too (the MCU profile's are coarser).
+// The surface model's grids (method surface, and paper's and polar's
+// plausibility checks): the whole depth range, and pits up to
+// pv_config_t.surface_max_radius_mm around their axis; bin sizes from the
+// configuration too (the MCU profile's are coarser).
 inline surface::Params surface_params(const pv_config_t &c) {
   surface::Params p;
   p.theta_bins = c.surface_theta_bins;
