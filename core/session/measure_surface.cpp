@@ -180,6 +180,21 @@ pv_pit_check_t check_model(pv_session *s, const levelling::Transform &t, uint32_
                    double(s->cfg.max_opening_tilt_deg), double(s->cfg.surface_max_radius_mm), out);
 }
 
+// The model's volume; its section per integration step goes to the
+// area-sequence arrays (prof) and the largest of them to *max_section_mm2.
+surface::Volume integrate_sections(pv_session *s, const surface::Model &m,
+                                   const surface::Params &p, surface::Profile *prof,
+                                   double *max_section_mm2) {
+  *prof = surface::Profile{s->seq_z, s->seq_area, s->seq_scratch,
+                           std::min<size_t>(s->grid.layers, s->seq_scratch_cap), 0};
+  const surface::Volume v = surface::integrate(s->surf, m, p, prof);
+  *max_section_mm2 = 0;
+  for (size_t i = 0; i < prof->n; ++i) {
+    *max_section_mm2 = std::max(*max_section_mm2, double(prof->area_mm2[i]));
+  }
+  return v;
+}
+
 }  // namespace
 
 surface::Status build_surface_model(pv_session *s, const levelling::Transform &t, double rim_mm,
@@ -210,17 +225,15 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   }
   // The section per 0.5 mm step goes to the layer detail (pv_session_layers)
   // through the area-sequence arrays, which this method does not use.
-  surface::Profile prof{s->seq_z, s->seq_area, s->seq_scratch,
-                        std::min<size_t>(s->grid.layers, s->seq_scratch_cap), 0};
-  const surface::Volume v = surface::integrate(s->surf, m, p, &prof);
+  surface::Profile prof;
+  double max_section = 0;
+  const surface::Volume v = integrate_sections(s, m, p, &prof, &max_section);
   s->layer_info_count = 0;
   for (size_t i = 0; i < prof.n; ++i) {
     const bool seen = prof.seen_share[i] >= 0.5;
     s->layer_info[s->layer_info_count++] = pv_layer_info_t{
         float(prof.z_mm[i]), float(prof.area_mm2[i]), 0, uint8_t(seen ? 1 : 0), 0};
   }
-  double max_section = 0;
-  for (size_t i = 0; i < prof.n; ++i) max_section = std::max(max_section, double(prof.area_mm2[i]));
   if (check_model(s, t, stride, m, p, v.rim_area_mm2, max_section, out) != PV_PIT_CHECK_NONE) {
     out->status = PV_ERR_NOT_A_PIT;
     return out->status;
@@ -277,11 +290,9 @@ pv_status_t check_pit_shape(pv_session *s, const levelling::Transform &t, double
   const surface::Status st = build_surface_model(s, t, rim_mm, stride, p, &m);
   if (st == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;
   if (st != surface::Status::Ok) return PV_ERR_TOO_FEW_LAYERS;
-  surface::Profile prof{s->seq_z, s->seq_area, s->seq_scratch,
-                        std::min<size_t>(s->grid.layers, s->seq_scratch_cap), 0};
-  const surface::Volume v = surface::integrate(s->surf, m, p, &prof);
+  surface::Profile prof;
   double max_section = 0;
-  for (size_t i = 0; i < prof.n; ++i) max_section = std::max(max_section, double(prof.area_mm2[i]));
+  const surface::Volume v = integrate_sections(s, m, p, &prof, &max_section);
   if (check_model(s, t, stride, m, p, v.rim_area_mm2, max_section, out) != PV_PIT_CHECK_NONE) {
     return PV_ERR_NOT_A_PIT;
   }
