@@ -162,39 +162,6 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, double rim_area_mm2,
   return PV_PIT_CHECK_NONE;
 }
 
-// check_pit() on a built model: the occupancy of its void, the sections
-// given, the opening's tilt, the wall's reach.
-pv_pit_check_t check_model(pv_session *s, const levelling::Transform &t, uint32_t stride,
-                           const surface::Model &m, const surface::Params &p,
-                           double rim_area_mm2, double max_section_mm2, pv_result_t *out) {
-  // The share of points inside the void is a ratio: every
-  // kOccupancyStride-th point gives it (corpus at most 6.5 %, refusals from
-  // 26 %, threshold 15 %) at a fraction of a full pass. Its points are not
-  // the model's, so the theta bins are computed afresh (no cache).
-  Levelled lv_occ{s, &t, stride * kOccupancyStride};
-  const surface::PointSource src_occ{&lv_occ, visit_points};
-  s->surf.point_theta = nullptr;
-  s->surf.point_theta_cap = 0;
-  const surface::Occupancy occ = surface::occupancy(src_occ, s->surf, m, p, kInsideMarginMm);
-  return check_pit(occ, rim_area_mm2, max_section_mm2, out->tilt_deg,
-                   double(s->cfg.max_opening_tilt_deg), double(s->cfg.surface_max_radius_mm), out);
-}
-
-// The model's volume; its section per integration step goes to the
-// area-sequence arrays (prof) and the largest of them to *max_section_mm2.
-surface::Volume integrate_sections(pv_session *s, const surface::Model &m,
-                                   const surface::Params &p, surface::Profile *prof,
-                                   double *max_section_mm2) {
-  *prof = surface::Profile{s->seq_z, s->seq_area, s->seq_scratch,
-                           std::min<size_t>(s->grid.layers, s->seq_scratch_cap), 0};
-  const surface::Volume v = surface::integrate(s->surf, m, p, prof);
-  *max_section_mm2 = 0;
-  for (size_t i = 0; i < prof->n; ++i) {
-    *max_section_mm2 = std::max(*max_section_mm2, double(prof->area_mm2[i]));
-  }
-  return v;
-}
-
 }  // namespace
 
 surface::Status build_surface_model(pv_session *s, const levelling::Transform &t, double rim_mm,
@@ -209,35 +176,74 @@ surface::Status build_surface_model(pv_session *s, const levelling::Transform &t
   return surface::build(src, z_bottom, rim_mm, p, s->surf, m);
 }
 
+namespace {
+
+// Method surface's model of the stored points levelled by t, as far as it
+// got: the model, its integral, its section per integration step (in the
+// area-sequence arrays) and its parameters.
+struct CheckedModel {
+  surface::Params p;
+  surface::Model m;
+  surface::Profile prof{};
+  surface::Volume v{};
+};
+
+// Builds and integrates the model (every kEstimateStride-th point while
+// estimating) and holds it to the plausibility checks: PV_OK, or the status
+// to refuse with (out's check fields set for PV_ERR_NOT_A_PIT).
+pv_status_t build_and_check(pv_session *s, const levelling::Transform &t, double rim_mm,
+                            pv_result_t *out, CheckedModel *c) {
+  c->p = surface_params(s->cfg);
+  const uint32_t stride = s->estimating ? kEstimateStride : 1u;
+  const surface::Status st = build_surface_model(s, t, rim_mm, stride, c->p, &c->m);
+  if (st == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;
+  if (st != surface::Status::Ok) return PV_ERR_TOO_FEW_LAYERS;
+  c->prof = surface::Profile{s->seq_z, s->seq_area, s->seq_scratch,
+                             std::min<size_t>(s->grid.layers, s->seq_scratch_cap), 0};
+  c->v = surface::integrate(s->surf, c->m, c->p, &c->prof);
+  double max_section = 0;
+  for (size_t i = 0; i < c->prof.n; ++i) {
+    max_section = std::max(max_section, double(c->prof.area_mm2[i]));
+  }
+  // The share of points inside the void is a ratio: every
+  // kOccupancyStride-th point gives it (corpus at most 6.5 %, refusals from
+  // 26 %, threshold 15 %) at a fraction of a full pass. Its points are not
+  // the model's, so the theta bins are computed afresh (no cache).
+  Levelled lv_occ{s, &t, stride * kOccupancyStride};
+  const surface::PointSource src_occ{&lv_occ, visit_points};
+  s->surf.point_theta = nullptr;
+  s->surf.point_theta_cap = 0;
+  const surface::Occupancy occ = surface::occupancy(src_occ, s->surf, c->m, c->p, kInsideMarginMm);
+  if (check_pit(occ, c->v.rim_area_mm2, max_section, out->tilt_deg,
+                double(s->cfg.max_opening_tilt_deg), double(s->cfg.surface_max_radius_mm),
+                out) != PV_PIT_CHECK_NONE) {
+    return PV_ERR_NOT_A_PIT;
+  }
+  return PV_OK;
+}
+
+}  // namespace
+
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
                             pv_result_t *out) {
-  const surface::Params p = surface_params(s->cfg);
-  const uint32_t stride = s->estimating ? kEstimateStride : 1u;
-  surface::Model m;
-  const surface::Status st = build_surface_model(s, t, rim_mm, stride, p, &m);
-  if (st == surface::Status::TooFewPoints) {
-    out->status = PV_ERR_TOO_FEW_POINTS;
-    return out->status;
-  }
-  if (st != surface::Status::Ok) {
-    out->status = PV_ERR_TOO_FEW_LAYERS;
-    return out->status;
-  }
-  // The section per 0.5 mm step goes to the layer detail (pv_session_layers)
-  // through the area-sequence arrays, which this method does not use.
-  surface::Profile prof;
-  double max_section = 0;
-  const surface::Volume v = integrate_sections(s, m, p, &prof, &max_section);
+  CheckedModel c;
+  const pv_status_t st = build_and_check(s, t, rim_mm, out, &c);
+  // The section per 0.5 mm step goes to the layer detail (pv_session_layers),
+  // a refused scan's too, through the area-sequence arrays, which this
+  // method does not use otherwise.
   s->layer_info_count = 0;
-  for (size_t i = 0; i < prof.n; ++i) {
-    const bool seen = prof.seen_share[i] >= 0.5;
+  for (size_t i = 0; i < c.prof.n; ++i) {
+    const bool seen = c.prof.seen_share[i] >= 0.5;
     s->layer_info[s->layer_info_count++] = pv_layer_info_t{
-        float(prof.z_mm[i]), float(prof.area_mm2[i]), 0, uint8_t(seen ? 1 : 0), 0};
+        float(c.prof.z_mm[i]), float(c.prof.area_mm2[i]), 0, uint8_t(seen ? 1 : 0), 0};
   }
-  if (check_model(s, t, stride, m, p, v.rim_area_mm2, max_section, out) != PV_PIT_CHECK_NONE) {
-    out->status = PV_ERR_NOT_A_PIT;
+  if (st != PV_OK) {
+    out->status = st;
     return out->status;
   }
+  const surface::Params &p = c.p;
+  const surface::Model &m = c.m;
+  const surface::Volume &v = c.v;
   out->coverage_bands = PV_COVERAGE_BANDS;
   surface::coverage(s->surf, m, p, PV_COVERAGE_BANDS, out->coverage);
   out->points_used = s->bins.stored() + s->floor_bins.stored();
@@ -284,19 +290,8 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
 // PV_ERR_NOT_A_PIT.
 pv_status_t check_pit_shape(pv_session *s, const levelling::Transform &t, double rim_mm,
                             pv_result_t *out) {
-  const surface::Params p = surface_params(s->cfg);
-  const uint32_t stride = s->estimating ? kEstimateStride : 1u;
-  surface::Model m;
-  const surface::Status st = build_surface_model(s, t, rim_mm, stride, p, &m);
-  if (st == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;
-  if (st != surface::Status::Ok) return PV_ERR_TOO_FEW_LAYERS;
-  surface::Profile prof;
-  double max_section = 0;
-  const surface::Volume v = integrate_sections(s, m, p, &prof, &max_section);
-  if (check_model(s, t, stride, m, p, v.rim_area_mm2, max_section, out) != PV_PIT_CHECK_NONE) {
-    return PV_ERR_NOT_A_PIT;
-  }
-  return PV_OK;
+  CheckedModel c;
+  return build_and_check(s, t, rim_mm, out, &c);
 }
 
 }  // namespace pv::session

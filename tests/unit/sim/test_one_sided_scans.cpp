@@ -16,10 +16,10 @@
 //
 // Each case must measure within its interval of the exact volume.
 #include <cmath>
-#include <cstdlib>
 #include <vector>
 
 #include "pitvol/pitvol.h"
+#include "session_support.h"
 #include "sim/handheld_scan.h"
 #include "sim/pit_geometry.h"
 #include "pv_cmocka.h"  // last: see pv_cmocka.h
@@ -40,18 +40,11 @@ void measures_within_its_interval(const Case &c) {
   sp.seed = c.seed;
   sp.path_arc_deg = c.arc_deg;
   pv::sim::HandheldScan scan(pit, sp);
-  pv_config_t cfg;
-  pv_config_default(&cfg);
-  size_t bytes = 0;
-  assert_int_equal(pv_session_size(&cfg, &bytes), PV_OK);
-  void *block = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
-  pv_session_t *s = nullptr;
-  assert_int_equal(pv_session_init(&cfg, block, bytes, &s), PV_OK);
+  TestSession session;
   pv::sim::Frame f;
-  while (scan.next(&f)) assert_int_equal(pv_session_push(s, f.points.data(), f.points.size()), PV_OK);
+  while (scan.next(&f)) assert_int_equal(pv_session_push(session.s, f.points.data(), f.points.size()), PV_OK);
   pv_result_t r{};
-  const pv_status_t st = pv_session_finish(s, &r);
-  std::free(block);
+  const pv_status_t st = pv_session_finish(session.s, &r);
   const double exact = pit.volume_mm3 / 1000.0;
   const char *fam = pv::sim::family_name(c.family);
   if (st != PV_OK) fail_msg("%s %s arc %.0f seed %llu: %s", fam, c.ground ? "ground" : "no ground", c.arc_deg,
