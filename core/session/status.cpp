@@ -77,6 +77,8 @@ extern "C" const char *pv_pit_check_name(uint32_t check) {
     case PV_PIT_CHECK_TOO_WIDE: return "PV_PIT_CHECK_TOO_WIDE";
     case PV_PIT_CHECK_OPENING_TILT: return "PV_PIT_CHECK_OPENING_TILT";
     case PV_PIT_CHECK_SECTIONS: return "PV_PIT_CHECK_SECTIONS";
+    case PV_PIT_CHECK_DOUBLED_WALL: return "PV_PIT_CHECK_DOUBLED_WALL";
+    case PV_PIT_CHECK_DOUBLED_FLOOR: return "PV_PIT_CHECK_DOUBLED_FLOOR";
     default: return "PV_PIT_CHECK_UNKNOWN";
   }
 }
@@ -104,6 +106,15 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
              "and width can hold (at most the largest section times the "
              "depth, and more than 0): they jump too much from layer to "
              "layer to be one pit's wall";
+    case PV_PIT_CHECK_DOUBLED_WALL:
+      return "the wall appears twice, a few mm apart: the scan holds the pit "
+             "twice, registered apart (the scanner lost its tracking during "
+             "the scan); scan the pit again in one steady pass";
+    case PV_PIT_CHECK_DOUBLED_FLOOR:
+      return "the floor appears twice, a few mm apart: the scan holds the "
+             "pit twice, registered apart (the scanner lost its tracking "
+             "during the scan), or loose soil covers the floor; clear the "
+             "floor and scan the pit again in one steady pass";
     default: return "unknown check";
   }
 }

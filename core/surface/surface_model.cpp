@@ -225,6 +225,8 @@ struct GridCtx {
   bool second;      // pass 2: accumulate the surface points
   ThetaCache cache;
   double floor_top = HUGE_VAL;  // pass 3: no floor cell reaches above this
+  double ghost = 0;      // pass 2: Params::ghost_mm behind a wall bin's band
+  double ghost_top = 0;  // pass 2: band + ghost_mm above a floor cell's low
 };
 
 // Pass 3: a wall bin's surface points that lie on the floor map's floor
@@ -272,6 +274,7 @@ void grid_batch(void *c, const Point *pts, size_t count) {
   const Geo g = x->g;
   const Axis axis = x->m->axis;
   const double rim = x->m->rim_mm, wall_top = x->wall_top, band = x->band;
+  const double ghost = x->ghost, ghost_top = x->ghost_top;
   const double C = g.C, Z = g.Z;
   WallBin *const wall = x->ws->wall;
   FloorCell *const floor = x->ws->floor;
@@ -296,6 +299,7 @@ void grid_batch(void *c, const Point *pts, size_t count) {
           const bool near = z <= near_min(f) + band;  // no branch, as above
           f.n += near ? 1 : 0;
           f.sz += near ? q.z : 0.0;
+          f.n_ghost += !near && z <= near_min(f) + ghost_top ? 1 : 0;
         }
       }
     }
@@ -321,7 +325,10 @@ void grid_batch(void *c, const Point *pts, size_t count) {
         sub[bi] |= sub_cell_bit(a * per_dth, zb - double(uint32_t(zb)) - 0.5);
       }
       offer_top(&b.top1, &b.top2, r);
-    } else if (r >= near_max(b) - b.band) {
+    } else if (r < near_max(b) - b.band) {
+      // Behind the band: a second copy of the wall, multipath or texture.
+      if (r >= near_max(b) - b.band - ghost && b.n_ghost < UINT16_MAX) ++b.n_ghost;
+    } else {
       const double zr = q.z - (g.z0 + (uint32_t(zb) + 0.5) * g.dz);
       ++b.n;
       b.sr += r;
@@ -495,6 +502,31 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
       }
     }
   }
+}
+
+// The evidence of a second surface behind the first (Model::ghost_bins):
+// the seen wall bins (after the outlier test) and the flooded floor cells
+// away from the wall's foot (after drop_floor_at_wall: from one side the
+// flood can reach the foot, where the wall's points stand above the floor).
+// A scan registered twice puts about half of a bin's points a few mm
+// behind its band where the copies are further apart than the band; a
+// single scan puts multipath, texture grooves and crumbs there, sparsely.
+void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, Model *m) {
+  const size_t bins = size_t(g.T) * g.Z;
+  for (size_t i = 0; i < bins; ++i) {
+    const WallBin &b = ws.wall[i];
+    if (b.state != kSeen || b.n_all < kDenseBinPoints) continue;
+    ++m->dense_bins;
+    // 30 %: half of the points behind the band, less the noise that keeps
+    // part of the second copy inside it.
+    m->ghost_bins += 10 * uint64_t(b.n_ghost) >= 3 * uint64_t(b.n_all) ? 1 : 0;
+  }
+  box.each(g.C, [&](size_t i, uint32_t, uint32_t) {
+    const FloorCell &f = ws.floor[i];
+    if (f.state != kFloor) return;
+    m->floor_points += f.n;
+    m->floor_ghost_points += f.n_ghost;
+  });
 }
 
 // Longer gaps along z are filled from around (the neighbours at the same
@@ -785,12 +817,14 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   const Geo g = geo_of(ws, *m, p);
   const size_t bins = size_t(g.T) * g.Z;
   for (size_t i = 0; i < bins; ++i) {
-    ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0.0f, 0, 0, 0, 0, 0, 0, 0, 0};
+    ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0, 0.0f, 0, 0, 0, 0, 0, 0, 0, 0};
   }
   const size_t cells = size_t(g.C) * g.C;
-  for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty};
+  for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty, 0};
 
   GridCtx gc{g, &ws, m, p.band_mm, rim_mm - p.rim_guard_mm, false, theta_cache(ws)};
+  gc.ghost = p.ghost_mm;
+  gc.ghost_top = p.band_mm + p.ghost_mm;
   if (p.coarse_bins) {
     auto *const sub = reinterpret_cast<uint32_t *>(ws.wall_hi);  // written as bits only
     std::fill(sub, sub + bins, 0u);  // the sub-cell bits: none
@@ -848,6 +882,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   if (m->seen_bins - m->rejected_bins < g.T) return Status::NoWall;
   bridge(ws, g, m);
   drop_floor_at_wall(ws, g, *m, p, box);
+  count_ghosts(ws, g, box, m);
 
   return Status::Ok;
 }

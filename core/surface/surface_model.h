@@ -58,6 +58,8 @@ struct Params {
   double floor_max_rise_mm = 1.5;  // a larger step from cell to cell is not floor
   uint32_t short_gap_bins = 4;     // a bridge this short is interpolation, not unseen wall
   double wide_gap_deg = 30.0;      // unknown wall this wide at one height: a side unseen
+  double ghost_mm = 8.0;           // window behind the surface band where a doubled
+                                   // scan's second surface lies (Model::ghost_bins)
   // Coarse wall bins with a few points each (the MCU profile, docs/targets.md):
   // a bin too sparse to fit its slope along the angle borrows it from its
   // neighbours, and the interval counts what such bins cannot resolve
@@ -100,6 +102,7 @@ struct WallBin {
   uint32_t n_floor;       // of those, on the floor map's floor
   uint8_t state;          // see BinState
   uint8_t gap;            // bridged: length of the bridge, bins (255: long)
+  uint16_t n_ghost;       // points up to ghost_mm inside the band (saturates)
   float atop;             // Params::coarse_bins: angle of top1 from the bin centre, rad
   double sr, sz, szz, srz;  // sums over the surface points (z from the bin centre)
   double sa, saa, sra, sza;  // the same for the angle from the bin centre, rad
@@ -117,6 +120,7 @@ struct FloorCell {
   float value;            // height of the floor in this cell
   double sz;
   uint8_t state;
+  uint32_t n_ghost;       // points up to ghost_mm above the band
 };
 
 struct Workspace {
@@ -167,7 +171,18 @@ struct Model {
   // for the interval (surface_model.cpp, coarse_bin): the slope sparse bins
   // borrowed, and the parts of seen bins no point fell in.
   double sparse_mm3, subbin_mm3;
+  // A second surface a few mm behind the first (a scan registered twice:
+  // the scanner's tracking slipped). Wall: of the seen bins with at least
+  // kDenseBinPoints points (dense_bins), those with 30 % of their points
+  // or more in the ghost_mm behind their band (ghost_bins). Floor: the
+  // points of the flooded floor cells in the band (floor_points) and in
+  // the ghost_mm above it (floor_ghost_points).
+  uint32_t dense_bins, ghost_bins;
+  uint64_t floor_points, floor_ghost_points;
 };
+
+// Points that make a wall bin dense enough for its ghost share.
+constexpr uint32_t kDenseBinPoints = 8;
 
 enum class Status { Ok, TooFewPoints, NoWall };
 

@@ -81,6 +81,16 @@ std::string check_figures(const pv_result_t &r) {
                     "volume %.3f x the largest section times the depth (a pit: above 0, at most %.2f)",
                     r.check_value, r.check_limit);
       break;
+    case PV_PIT_CHECK_DOUBLED_WALL:
+      std::snprintf(b, sizeof b,
+                    "%.0f %% of the well-seen wall has a second wall behind it (one scan: at most %.0f %%)",
+                    100 * r.check_value, 100 * r.check_limit);
+      break;
+    case PV_PIT_CHECK_DOUBLED_FLOOR:
+      std::snprintf(b, sizeof b,
+                    "%.1f %% of the floor's points lie a few mm above it (one scan: at most %.1f %%)",
+                    100 * r.check_value, 100 * r.check_limit);
+      break;
     default: std::snprintf(b, sizeof b, "no figure"); break;
   }
   return b;

@@ -74,13 +74,20 @@ typedef enum pv_pit_check {
   PV_PIT_CHECK_OPENING_TILT = 5,  /* value: the opening's tilt from the
                                      scanner's view, deg; limit:
                                      max_opening_tilt_deg */
-  PV_PIT_CHECK_SECTIONS = 6       /* per-layer methods (paper, polar): value:
+  PV_PIT_CHECK_SECTIONS = 6,      /* per-layer methods (paper, polar): value:
                                      the volume over the largest kept section
                                      times the depth; limit: 1.05 (sections
                                      between 0 and the largest bound it to
                                      [0, 1], plus the ends' extrapolation;
                                      outside, or not above 0, the sequence is
                                      too erratic to integrate) */
+  PV_PIT_CHECK_DOUBLED_WALL = 7,  /* value: the share of the well-seen wall
+                                     bins with a second wall a few mm behind
+                                     the first; limit: the most a single scan
+                                     shows (grooves, multipath) */
+  PV_PIT_CHECK_DOUBLED_FLOOR = 8  /* value: the share of the floor's points a
+                                     few mm above it; limit: the most a
+                                     single scan shows */
 } pv_pit_check_t;
 /* "PV_PIT_CHECK_POINTS_INSIDE", ... */
 const char *pv_pit_check_name(uint32_t check);

@@ -68,6 +68,8 @@ void expect_refused(const std::vector<pv_point_t> &pts, const char *what,
     case PV_PIT_CHECK_POINTS_INSIDE:
     case PV_PIT_CHECK_TOO_WIDE:
     case PV_PIT_CHECK_OPENING_TILT:
+    case PV_PIT_CHECK_DOUBLED_WALL:
+    case PV_PIT_CHECK_DOUBLED_FLOOR:
       if (!(o.r.check_value > o.r.check_limit)) {
         fail_msg("[%s] %s: %s figure %g not beyond %g", pv_method_name(g_method), what, pv_pit_check_name(o.r.failed_check),
                  o.r.check_value, o.r.check_limit);
