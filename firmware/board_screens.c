@@ -159,8 +159,8 @@ void pv_board_refusal_text(const pv_result_t *r, pv_status_t st, char *why, size
         case PV_PIT_CHECK_DOUBLED_WALL:
         case PV_PIT_CHECK_DOUBLED_FLOOR:
           /* The scan holds the pit twice: the scanner lost its tracking. */
-          snprintf(why, cap_why, "%s seen twice (%.0f%%)",
-                   r->failed_check == PV_PIT_CHECK_DOUBLED_WALL ? "wall" : "floor", 100 * r->check_value);
+          snprintf(why, cap_why, "%s seen twice",
+                   r->failed_check == PV_PIT_CHECK_DOUBLED_WALL ? "wall" : "floor");
           snprintf(todo, cap_todo, "rescan in one steady pass");
           return;
         default:

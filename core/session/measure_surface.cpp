@@ -25,28 +25,28 @@ constexpr double kMaxInsideShare = 0.15;
 constexpr double kMinMouthRatio = 0.5;
 // A scan registered twice (the scanner's tracking slipped and the pit was
 // scanned again a few mm off): the model takes the outer wall and the lower
-// floor of the two copies, +0.3 to +2.6 % with an interval of 0.25 %
-// (docs/reliability.md, "Doubled scans"). Wall: the share of dense seen
-// bins with a second surface behind them; single scans at most 0.168
-// (textured grooves, 845 scans: the three sets and the sweeps), doubled
-// scans 0.28 up where their walls lie further apart than the band. Evidence
-// only from enough dense bins (the 30k-point sparse scans have 150; the
-// others 429 up).
-constexpr double kMaxGhostBinShare = 0.25;
-constexpr uint32_t kMinDenseBins = 256;
+// floor of the two copies, +0.3 to +3.1 % with an interval of 0.25 %
+// (docs/reliability.md, "Doubled scans"). Wall: the contrast of the second
+// wall behind the first between the sides a rigid shift moves apart and
+// the sides across (surface::Model::ghost_contrast); single scans at most
+// 0.071 (845 scans: the three sets and the sweeps; grooves alone reach
+// 0.17 of the bins, but all round); of 214 doubled scans 2 to 5 mm apart,
+// those under the floor's limit 0.21 up.
+constexpr double kMaxGhostContrast = 0.15;
 // Floor: the share of the floor's points a few mm above its surface
-// (away from the wall's foot); single scans at most 0.014 (a bowl's
-// sloping bottom), doubled floors 0.038 up.
+// (away from the wall's foot), from enough points; single scans at most
+// 0.014 (a bowl's sloping bottom), doubled scans under the wall's limit
+// 0.045 up.
 constexpr double kMaxFloorGhostShare = 0.03;
-// Both figures were measured on the default grids (2 deg x 2 mm wall bins,
-// 2 mm floor cells). On coarser grids a single scan reaches them: the MCU
-// profile's 10 deg bins read an ellipse's wall 0.51, its 12 mm cells a
-// bowl's sloping bottom 0.035. There the checks do not apply (a documented
-// limit, docs/reliability.md).
+constexpr uint64_t kMinFloorPoints = 500;
+// Both were measured on the default grids (2 deg x 2 mm wall bins, 2 mm
+// floor cells). Coarser grids put a single scan's wall and floor behind the
+// band: the MCU profile's 10 deg bins half of an elliptical wall's bins,
+// its 12 mm cells 0.035 of a bowl's floor points. There the checks do not
+// apply (a documented limit, docs/reliability.md).
 bool ghost_checks_apply(const surface::Params &p) {
   return !p.coarse_bins && p.theta_bins >= 180 && p.dz_mm <= 2.0 && p.cell_mm <= 2.0 && p.band_mm <= 1.5;
 }
-constexpr uint64_t kMinFloorPoints = 500;
 // The opening faces the scanner, which looks down into the pit; a scan
 // whose opening faces away is a mound (or a scanner frame upside down:
 // pv_config_t.max_opening_tilt_deg).
@@ -161,9 +161,15 @@ void widest_unseen_band(const pv_result_t &r, double rim_mm, double *from, doubl
 // The first plausibility check the scan fails, with its figure and limit
 // in out (failed_check, check_value, check_limit); PV_PIT_CHECK_NONE if it
 // passes them all.
+// ghost_checks: the doubled-surface checks apply (ghost_checks_apply());
+// floor_check: the floor's too (method surface: the floor band comes from
+// the floor store, thinned as one; the per-layer methods' bins thin the
+// floor's 0.5 mm layers far more than the layers above it, so a grooved
+// wall's foot read 0.40 of their floor points above it).
 pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m, bool ghost_checks,
-                         double rim_area_mm2, double max_section_mm2, double tilt_deg, double max_tilt_deg,
-                         double max_radius_mm, pv_result_t *out) {
+                         bool floor_check, double rim_area_mm2, double max_section_mm2,
+                         double tilt_deg, double max_tilt_deg, double max_radius_mm,
+                         pv_result_t *out) {
   const auto refuse = [out](pv_pit_check_t c, double value, double limit) {
     out->failed_check = c;
     out->check_value = value;
@@ -184,12 +190,11 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
   if (occ.max_radius_mm > widest) return refuse(PV_PIT_CHECK_TOO_WIDE, occ.max_radius_mm, widest);
   if (!(tilt_deg <= max_tilt_deg)) return refuse(PV_PIT_CHECK_OPENING_TILT, tilt_deg, max_tilt_deg);
   if (!ghost_checks) return PV_PIT_CHECK_NONE;
-  if (m.dense_bins >= kMinDenseBins) {
-    const double share = double(m.ghost_bins) / double(m.dense_bins);
-    if (share > kMaxGhostBinShare) return refuse(PV_PIT_CHECK_DOUBLED_WALL, share, kMaxGhostBinShare);
+  if (m.ghost_contrast > kMaxGhostContrast) {
+    return refuse(PV_PIT_CHECK_DOUBLED_WALL, m.ghost_contrast, kMaxGhostContrast);
   }
   const uint64_t floor_all = m.floor_points + m.floor_ghost_points;
-  if (floor_all >= kMinFloorPoints) {
+  if (floor_check && floor_all >= kMinFloorPoints) {
     const double share = double(m.floor_ghost_points) / double(floor_all);
     if (share > kMaxFloorGhostShare) {
       return refuse(PV_PIT_CHECK_DOUBLED_FLOOR, share, kMaxFloorGhostShare);
@@ -250,7 +255,9 @@ pv_status_t build_and_check(pv_session *s, const levelling::Transform &t, double
   s->surf.point_theta = nullptr;
   s->surf.point_theta_cap = 0;
   const surface::Occupancy occ = surface::occupancy(src_occ, s->surf, c->m, c->p, kInsideMarginMm);
-  if (check_pit(occ, c->m, ghost_checks_apply(c->p), c->v.rim_area_mm2, max_section, out->tilt_deg,
+  const bool ghost_checks = ghost_checks_apply(c->p);
+  const bool floor_check = ghost_checks && s->cfg.method == PV_METHOD_SURFACE;
+  if (check_pit(occ, c->m, ghost_checks, floor_check, c->v.rim_area_mm2, max_section, out->tilt_deg,
                 double(s->cfg.max_opening_tilt_deg), double(s->cfg.surface_max_radius_mm),
                 out) != PV_PIT_CHECK_NONE) {
     return PV_ERR_NOT_A_PIT;

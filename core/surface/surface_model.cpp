@@ -504,22 +504,45 @@ void reject_outliers(Workspace &ws, const Geo &g, const Params &p, Model *m) {
   }
 }
 
-// The evidence of a second surface behind the first (Model::ghost_bins):
+// The evidence of a second surface behind the first (Model::ghost_contrast):
 // the seen wall bins (after the outlier test) and the flooded floor cells
 // away from the wall's foot (after drop_floor_at_wall: from one side the
 // flood can reach the foot, where the wall's points stand above the floor).
 // A scan registered twice puts about half of a bin's points a few mm
 // behind its band where the copies are further apart than the band; a
-// single scan puts multipath, texture grooves and crumbs there, sparsely.
+// single scan puts multipath, texture grooves and crumbs there.
 void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, Model *m) {
-  const size_t bins = size_t(g.T) * g.Z;
-  for (size_t i = 0; i < bins; ++i) {
-    const WallBin &b = ws.wall[i];
-    if (b.state != kSeen || b.n_all < kDenseBinPoints) continue;
-    ++m->dense_bins;
-    // 30 %: half of the points behind the band, less the noise that keeps
-    // part of the second copy inside it.
-    m->ghost_bins += 10 * uint64_t(b.n_ghost) >= 3 * uint64_t(b.n_all) ? 1 : 0;
+  uint32_t dense[AngleBins::kMaxBins] = {}, ghost[AngleBins::kMaxBins] = {};
+  for (uint32_t z = 0; z < g.Z; ++z) {
+    for (uint32_t t = 0; t < g.T; ++t) {
+      const WallBin &b = ws.wall[size_t(z) * g.T + t];
+      if (b.state != kSeen || b.n_all < kDenseBinPoints) continue;
+      ++dense[t];
+      // 30 %: half of the points behind the band, less the noise that
+      // keeps part of the second copy inside it.
+      ghost[t] += 10 * uint64_t(b.n_ghost) >= 3 * uint64_t(b.n_all) ? 1 : 0;
+    }
+  }
+  // Sectors of 60 deg: the bins within T / 12 of a centre (exclusive).
+  const auto sector = [&](const uint32_t *count, uint32_t centre) {
+    const uint32_t w = (g.T + 11) / 12 - 1;
+    uint32_t sum = 0;
+    for (uint32_t d = 0; d <= 2 * w; ++d) sum += count[(centre + g.T - w + d) % g.T];
+    return sum;
+  };
+  m->ghost_contrast = -1;
+  for (uint32_t t = 0; t < g.T; ++t) {
+    m->dense_bins += dense[t];
+    m->ghost_bins += ghost[t];
+  }
+  const uint32_t half = g.T / 2, quarter = g.T / 4;
+  for (uint32_t k = 0; k < half; ++k) {
+    const uint32_t on_n = sector(dense, k) + sector(dense, k + half);
+    const uint32_t off_n = sector(dense, k + quarter) + sector(dense, k + half + quarter);
+    if (on_n < kMinSectorBins || off_n < kMinSectorBins) continue;
+    const double on = double(sector(ghost, k) + sector(ghost, k + half)) / on_n;
+    const double off = double(sector(ghost, k + quarter) + sector(ghost, k + half + quarter)) / off_n;
+    m->ghost_contrast = std::max(m->ghost_contrast, on - off);
   }
   box.each(g.C, [&](size_t i, uint32_t, uint32_t) {
     const FloorCell &f = ws.floor[i];

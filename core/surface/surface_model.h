@@ -59,7 +59,7 @@ struct Params {
   uint32_t short_gap_bins = 4;     // a bridge this short is interpolation, not unseen wall
   double wide_gap_deg = 30.0;      // unknown wall this wide at one height: a side unseen
   double ghost_mm = 8.0;           // window behind the surface band where a doubled
-                                   // scan's second surface lies (Model::ghost_bins)
+                                   // scan's second surface lies (Model::ghost_contrast)
   // Coarse wall bins with a few points each (the MCU profile, docs/targets.md):
   // a bin too sparse to fit its slope along the angle borrows it from its
   // neighbours, and the interval counts what such bins cannot resolve
@@ -172,17 +172,25 @@ struct Model {
   // borrowed, and the parts of seen bins no point fell in.
   double sparse_mm3, subbin_mm3;
   // A second surface a few mm behind the first (a scan registered twice:
-  // the scanner's tracking slipped). Wall: of the seen bins with at least
-  // kDenseBinPoints points (dense_bins), those with 30 % of their points
-  // or more in the ghost_mm behind their band (ghost_bins). Floor: the
-  // points of the flooded floor cells in the band (floor_points) and in
-  // the ghost_mm above it (floor_ghost_points).
+  // the scanner's tracking slipped). Wall: a ghost bin is a seen bin with
+  // at least kDenseBinPoints points of which 30 % or more lie in the
+  // ghost_mm behind its band. Two copies a rigid shift apart lie apart
+  // across the wall on two opposite sides and not between, so
+  // ghost_contrast is the largest, over the directions, of the ghost bins'
+  // share in the two 60 deg sectors facing that direction less their share
+  // in the two sectors across it (-1: no direction with kMinSectorBins
+  // dense bins in both). Grooves and multipath lie all round: no contrast.
+  // Floor: the points of the flooded floor cells in the band
+  // (floor_points) and in the ghost_mm above it (floor_ghost_points).
   uint32_t dense_bins, ghost_bins;
+  double ghost_contrast;
   uint64_t floor_points, floor_ghost_points;
 };
 
-// Points that make a wall bin dense enough for its ghost share.
+// Points that make a wall bin dense enough for its ghost share, and dense
+// bins that make a pair of sectors evidence for the contrast.
 constexpr uint32_t kDenseBinPoints = 8;
+constexpr uint32_t kMinSectorBins = 64;
 
 enum class Status { Ok, TooFewPoints, NoWall };
 

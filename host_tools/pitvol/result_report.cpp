@@ -83,7 +83,8 @@ std::string check_figures(const pv_result_t &r) {
       break;
     case PV_PIT_CHECK_DOUBLED_WALL:
       std::snprintf(b, sizeof b,
-                    "%.0f %% of the well-seen wall has a second wall behind it (one scan: at most %.0f %%)",
+                    "a second wall behind the first on two opposite sides: %.0f %% more of the wall than "
+                    "across them (one scan: at most %.0f %%)",
                     100 * r.check_value, 100 * r.check_limit);
       break;
     case PV_PIT_CHECK_DOUBLED_FLOOR:

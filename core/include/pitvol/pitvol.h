@@ -81,10 +81,12 @@ typedef enum pv_pit_check {
                                      [0, 1], plus the ends' extrapolation;
                                      outside, or not above 0, the sequence is
                                      too erratic to integrate) */
-  PV_PIT_CHECK_DOUBLED_WALL = 7,  /* value: the share of the well-seen wall
-                                     bins with a second wall a few mm behind
-                                     the first; limit: the most a single scan
-                                     shows (grooves, multipath) */
+  PV_PIT_CHECK_DOUBLED_WALL = 7,  /* value: of the well-seen wall bins, the
+                                     share with a second wall a few mm behind
+                                     the first on two opposite sides, less
+                                     the share across them (two copies a
+                                     rigid shift apart); limit: the most a
+                                     single scan shows */
   PV_PIT_CHECK_DOUBLED_FLOOR = 8  /* value: the share of the floor's points a
                                      few mm above it; limit: the most a
                                      single scan shows */
