@@ -29,10 +29,10 @@ constexpr double kMinMouthRatio = 0.5;
 // (docs/reliability.md, "Doubled scans"). Wall: the contrast of the second
 // wall behind the first between the sides a rigid shift moves apart and
 // the sides across (surface::Model::ghost_contrast); single scans at most
-// 0.071 (845 scans: the three sets and the sweeps; grooves alone reach
-// 0.17 of the bins, but all round); of 214 doubled scans 2 to 5 mm apart,
-// those under the floor's limit 0.21 up.
-constexpr double kMaxGhostContrast = 0.15;
+// 0.071 (845 scans: the three sets and the sweeps), a wall grooved all
+// round 0.05 to 0.09 (test_not_a_pit); of 214 doubled scans 2 to 5 mm
+// apart, those under the floor's limit 0.21 up.
+constexpr double kMaxGhostContrast = 0.2;
 // Floor: the share of the floor's points a few mm above its surface
 // (away from the wall's foot), from enough points; single scans at most
 // 0.014 (a bowl's sloping bottom), doubled scans under the wall's limit

@@ -259,7 +259,7 @@ void screens_say_what_matters(void **) {
   // A scan that holds the pit twice: a rescan in one pass, not "alone".
   m.result.failed_check = PV_PIT_CHECK_DOUBLED_WALL;
   m.result.check_value = 0.75;
-  m.result.check_limit = 0.15;
+  m.result.check_limit = 0.2;
   t = screen_text(m);
   assert_true(has(t, "|wall seen twice\n"));
   assert_true(has(t, "|rescan in one steady pass\n"));

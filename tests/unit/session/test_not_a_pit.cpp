@@ -184,11 +184,11 @@ void one_pit_measures(void **) {
   assert_int_equal(o.r.failed_check, PV_PIT_CHECK_NONE);
 }
 
-// A wall grooved all round (3 mm deep, 3 mm tall, every 6 mm: tool marks)
-// puts a second surface behind the first in a third of the wall's bins,
-// like a scan registered twice; but all round, not on two opposite sides,
-// so it is one pit (a share of such bins over 0.25, the doubled-wall
-// check's first form, refused it).
+// A wall grooved all round (3 mm deep, 2 mm tall, every 5 mm: tool marks)
+// puts a second surface behind the first in 0.40 of the wall's bins, like
+// a scan registered twice, which the doubled-wall check's first form (the
+// share of such bins, over 0.25) refused; but all round, not on two
+// opposite sides: its contrast reads 0.05 (limit 0.2), one pit.
 void grooved_pit_measures(void **) {
   Rng g{8};
   std::vector<pv_point_t> v;
@@ -199,7 +199,7 @@ void grooved_pit_measures(void **) {
       v.push_back(P(r * std::cos(t), r * std::sin(t), 0.1 * g.gauss()));
     } else {
       const double z = 250 * g.uniform();
-      const double r = std::fmod(z, 6.0) < 3.0 ? 103.0 : 100.0;
+      const double r = std::fmod(z, 5.0) < 2.0 ? 103.0 : 100.0;
       v.push_back(P(r * std::cos(t), r * std::sin(t), z));
     }
   }
