@@ -243,6 +243,41 @@ void not_a_pit_names_the_check_and_its_figure(void **) {
   expect_contains(j.out, "\"check_limit\": 0.5");
 }
 
+// The same pit twice, 3 mm apart along x (a scanner that lost its
+// tracking): refused, with the check and its figure in the message.
+void doubled_scan_names_the_check_and_its_figure(void **) {
+  pv::synth::PitSpec spec;
+  spec.seed = 11;
+  pv::synth::PitScan a(spec), b(spec);
+  const int n = 120000;
+  std::string body;
+  for (int copy = 0; copy < 2; ++copy) {
+    for (int i = 0; i < n; ++i) {
+      const pv_point_t q = copy == 0 ? a.next() : b.next();
+      const float p[3] = {q.x_mm + (copy == 0 ? 0.0f : 3.0f), q.y_mm, q.z_mm};
+      body.append(reinterpret_cast<const char *>(p), sizeof p);
+    }
+  }
+  const std::string path = write_file(
+      "doubled.ply", "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(2 * n) +
+                         "\nproperty float x\nproperty float y\nproperty float z\nend_header\n" + body);
+  const Run r = pitvol("measure " + quote(path));
+  expect_exit(r, 4);
+  expect_contains(r.err, "PV_ERR_NOT_A_PIT");
+  expect_contains(r.err, "PV_PIT_CHECK_DOUBLED_WALL");
+  expect_contains(r.err, "scan the pit again in one steady pass");
+  const size_t at = r.err.find("on two opposite sides: ");
+  assert_true(at != std::string::npos);
+  double contrast = NAN, limit = NAN;
+  assert_int_equal(std::sscanf(r.err.c_str() + at,
+                               "on two opposite sides: %lf %% more of the wall than across them (one scan: at "
+                               "most %lf %%)",
+                               &contrast, &limit), 2);
+  assert_true(contrast > limit);
+  const Run once = pitvol("measure " + quote(g_scan));  // the same pit, once
+  expect_exit(once, 0);
+}
+
 int setup(void **) {
   char tmpl[] = "/tmp/pv_cli_hostile_XXXXXX";
   if (mkdtemp(tmpl) == nullptr) return -1;
@@ -281,6 +316,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(help_on_every_command_of_every_tool),
       cmocka_unit_test(wall_gap_message_gives_the_heights),
       cmocka_unit_test(not_a_pit_names_the_check_and_its_figure),
+      cmocka_unit_test(doubled_scan_names_the_check_and_its_figure),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
