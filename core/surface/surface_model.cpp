@@ -519,38 +519,56 @@ constexpr float kChainMm = 3.0f;
 constexpr int kChainReach = 3;
 constexpr int kChainAgree = 3;
 
+// The columns within reach of t around the circle, wrapped without a
+// division: cols[reach + d] is column t + d.
+void columns_around(uint32_t t, uint32_t T, int reach, uint32_t *cols) {
+  for (int d = -reach; d <= reach; ++d) {
+    int c = int(t) + d;
+    c += c < 0 ? int(T) : (c >= int(T) ? -int(T) : 0);
+    cols[d + reach] = uint32_t(c);
+  }
+}
+
 void reject_unconnected(Workspace &ws, const Geo &g, const Params &p, Model *m) {
   const size_t bins = size_t(g.T) * g.Z;
   float *const reached = ws.fill_val;  // scratch until bridge()
   uint32_t *const queue = ws.fill_idx;
-  const auto column = [&](uint32_t t, int dt) { return uint32_t((int(t) + dt + int(g.T)) % int(g.T)); };
   size_t head = 0, tail = 0;
-  for (size_t i = 0; i < bins; ++i) {
-    bool root = false;
-    if (ws.wall[i].state == kSeen) {
-      root = ws.wall[i].n >= p.sparse_points;
-      const auto z = uint32_t(i / g.T), t = uint32_t(i % g.T);
-      int agree = 0;
-      for (int dz = -1; dz <= 1 && !root; ++dz) {
-        if (int(z) + dz < 0 || int(z) + dz >= int(g.Z)) continue;
-        for (int dt = -1; dt <= 1; ++dt) {
-          if (dz == 0 && dt == 0) continue;
-          const size_t j = size_t(int(z) + dz) * g.T + column(t, dt);
-          agree += ws.wall[j].state == kSeen && std::fabs(ws.wall_val[j] - ws.wall_val[i]) <= kChainMm ? 1 : 0;
+  uint32_t cols[2 * kChainReach + 1];
+  for (uint32_t z = 0; z < g.Z; ++z) {
+    for (uint32_t t = 0; t < g.T; ++t) {
+      const size_t i = size_t(z) * g.T + t;
+      bool root = false;
+      if (ws.wall[i].state == kSeen) {
+        root = ws.wall[i].n >= p.sparse_points;
+        if (!root) {
+          // Locally coherent: kChainAgree of the 8 around within kChainMm.
+          columns_around(t, g.T, 1, cols);
+          const float v = ws.wall_val[i];
+          int agree = 0;
+          for (int zz = std::max(int(z) - 1, 0); zz <= std::min(int(z) + 1, int(g.Z) - 1); ++zz) {
+            for (uint32_t c = 0; c < 3; ++c) {
+              const size_t j = size_t(zz) * g.T + cols[c];
+              if (j == i) continue;
+              agree += ws.wall[j].state == kSeen && std::fabs(ws.wall_val[j] - v) <= kChainMm ? 1 : 0;
+            }
+          }
+          root = agree >= kChainAgree;
         }
       }
-      root = root || agree >= kChainAgree;
+      reached[i] = root ? 1.0f : 0.0f;
+      if (root) queue[tail++] = uint32_t(i);
     }
-    reached[i] = root ? 1.0f : 0.0f;
-    if (root) queue[tail++] = uint32_t(i);
   }
   while (head < tail) {
     const uint32_t i = queue[head++], z = i / g.T, t = i % g.T;
     const float v = ws.wall_val[i];
+    columns_around(t, g.T, kChainReach, cols);
     for (int dz = -kChainReach; dz <= kChainReach; ++dz) {
       if (int(z) + dz < 0 || int(z) + dz >= int(g.Z)) continue;
+      const size_t row = size_t(int(z) + dz) * g.T;
       for (int dt = -kChainReach; dt <= kChainReach; ++dt) {
-        const size_t j = size_t(int(z) + dz) * g.T + column(t, dt);
+        const size_t j = row + cols[dt + kChainReach];
         if (reached[j] != 0.0f || ws.wall[j].state != kSeen) continue;
         const auto steps = float(std::max(std::abs(dz), std::abs(dt)));
         if (!(std::fabs(ws.wall_val[j] - v) <= kChainMm * steps)) continue;
