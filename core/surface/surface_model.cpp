@@ -225,8 +225,7 @@ struct GridCtx {
   bool second;      // pass 2: accumulate the surface points
   ThetaCache cache;
   double floor_top = HUGE_VAL;  // pass 3: no floor cell reaches above this
-  double ghost = 0;      // pass 2: Params::ghost_mm behind a wall bin's band
-  double ghost_top = 0;  // pass 2: band + ghost_mm above a floor cell's low
+  double ghost = 0;  // pass 2: Params::ghost_mm, the window behind a bin's band, above a cell's
 };
 
 // Pass 3: a wall bin's surface points that lie on the floor map's floor
@@ -274,7 +273,7 @@ void grid_batch(void *c, const Point *pts, size_t count) {
   const Geo g = x->g;
   const Axis axis = x->m->axis;
   const double rim = x->m->rim_mm, wall_top = x->wall_top, band = x->band;
-  const double ghost = x->ghost, ghost_top = x->ghost_top;
+  const double ghost = x->ghost, ghost_top = band + ghost;
   const double C = g.C, Z = g.Z;
   WallBin *const wall = x->ws->wall;
   FloorCell *const floor = x->ws->floor;
@@ -612,10 +611,6 @@ void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, Model *
     return sum;
   };
   m->ghost_contrast = -1;
-  for (uint32_t t = 0; t < g.T; ++t) {
-    m->dense_bins += dense[t];
-    m->ghost_bins += ghost[t];
-  }
   const uint32_t half = g.T / 2, quarter = g.T / 4;
   for (uint32_t k = 0; k < half; ++k) {
     const uint32_t on_n = sector(dense, k) + sector(dense, k + half);
@@ -928,7 +923,6 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
 
   GridCtx gc{g, &ws, m, p.band_mm, rim_mm - p.rim_guard_mm, false, theta_cache(ws)};
   gc.ghost = p.ghost_mm;
-  gc.ghost_top = p.band_mm + p.ghost_mm;
   if (p.coarse_bins) {
     auto *const sub = reinterpret_cast<uint32_t *>(ws.wall_hi);  // written as bits only
     std::fill(sub, sub + bins, 0u);  // the sub-cell bits: none

@@ -182,7 +182,6 @@ struct Model {
   // dense bins in both). Grooves and multipath lie all round: no contrast.
   // Floor: the points of the flooded floor cells in the band
   // (floor_points) and in the ghost_mm above it (floor_ghost_points).
-  uint32_t dense_bins, ghost_bins;
   double ghost_contrast;
   uint64_t floor_points, floor_ghost_points;
 };

@@ -22,14 +22,9 @@
 // them out.
 //
 // Each case must measure within its interval of the exact volume.
-#include <cmath>
-#include <vector>
+#include <cstdio>
 
-#include "pitvol/pitvol.h"
-#include "session_support.h"
-#include "sim/handheld_scan.h"
-#include "sim/pit_geometry.h"
-#include "pv_cmocka.h"  // last: see pv_cmocka.h
+#include "sim_scan_check.h"  // last: it includes pv_cmocka.h
 
 namespace {
 
@@ -42,25 +37,12 @@ struct Case {
 
 // As `pitvol-sim scan --family F [--no-ground] --arc A --seed S` makes it.
 void measures_within_its_interval(const Case &c) {
-  const pv::sim::Pit pit = pv::sim::make_pit(c.family, c.ground, c.seed);
   pv::sim::ScanParams sp;
   sp.seed = c.seed;
   sp.path_arc_deg = c.arc_deg;
-  pv::sim::HandheldScan scan(pit, sp);
-  TestSession session;
-  pv::sim::Frame f;
-  while (scan.next(&f)) assert_int_equal(pv_session_push(session.s, f.points.data(), f.points.size()), PV_OK);
-  pv_result_t r{};
-  const pv_status_t st = pv_session_finish(session.s, &r);
-  const double exact = pit.volume_mm3 / 1000.0;
-  const char *fam = pv::sim::family_name(c.family);
-  if (st != PV_OK) fail_msg("%s %s arc %.0f seed %llu: %s", fam, c.ground ? "ground" : "no ground", c.arc_deg,
-                            (unsigned long long)c.seed, pv_status_name(st));
-  if (!(std::fabs(r.volume_cm3 - exact) <= r.interval_cm3)) {
-    fail_msg("%s %s arc %.0f seed %llu: %.1f +/- %.1f cm3, exact %.1f (%+.2f %%)", fam,
-             c.ground ? "ground" : "no ground", c.arc_deg, (unsigned long long)c.seed, r.volume_cm3,
-             r.interval_cm3, exact, 100.0 * (r.volume_cm3 - exact) / exact);
-  }
+  char what[64];
+  std::snprintf(what, sizeof what, "arc %.0f seed %llu", c.arc_deg, (unsigned long long)c.seed);
+  expect_within_interval(c.family, c.ground, sp, what);
 }
 
 using pv::sim::Family;

@@ -9,14 +9,9 @@
 // (surface_model.cpp, reject_unconnected).
 //
 // Each case must measure within its interval of the exact volume.
-#include <cmath>
-#include <vector>
+#include <cstdio>
 
-#include "pitvol/pitvol.h"
-#include "session_support.h"
-#include "sim/handheld_scan.h"
-#include "sim/pit_geometry.h"
-#include "pv_cmocka.h"  // last: see pv_cmocka.h
+#include "sim_scan_check.h"  // last: it includes pv_cmocka.h
 
 namespace {
 
@@ -24,23 +19,12 @@ using pv::sim::Family;
 
 // As `pitvol-sim scan --family F --dropouts N --seed S` makes it.
 void measures_within_its_interval(Family family, uint32_t patches, uint64_t seed) {
-  const pv::sim::Pit pit = pv::sim::make_pit(family, true, seed);
   pv::sim::ScanParams sp;
   sp.seed = seed;
   sp.dropout_patches = patches;
-  pv::sim::HandheldScan scan(pit, sp);
-  TestSession session;
-  pv::sim::Frame f;
-  while (scan.next(&f)) assert_int_equal(pv_session_push(session.s, f.points.data(), f.points.size()), PV_OK);
-  pv_result_t r{};
-  const pv_status_t st = pv_session_finish(session.s, &r);
-  const double exact = pit.volume_mm3 / 1000.0;
-  const char *fam = pv::sim::family_name(family);
-  if (st != PV_OK) fail_msg("%s, %u patches, seed %llu: %s", fam, patches, (unsigned long long)seed, pv_status_name(st));
-  if (!(std::fabs(r.volume_cm3 - exact) <= r.interval_cm3)) {
-    fail_msg("%s, %u patches, seed %llu: %.1f +/- %.1f cm3, exact %.1f (%+.2f %%)", fam, patches,
-             (unsigned long long)seed, r.volume_cm3, r.interval_cm3, exact, 100.0 * (r.volume_cm3 - exact) / exact);
-  }
+  char what[64];
+  std::snprintf(what, sizeof what, "%u patches seed %llu", patches, (unsigned long long)seed);
+  expect_within_interval(family, true, sp, what);
 }
 
 // Before: -1.57 % +/- 0.81, -0.79 % +/- 0.64, -0.78 % +/- 0.54.
