@@ -310,7 +310,7 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   }
   const double bridge = std::max(v.hi_mm3 - v.volume_mm3, v.volume_mm3 - v.lo_mm3);
   double interval_mm3 =
-      bridge + kBaseRelInterval * v.volume_mm3 + kRimSigmaMm * v.rim_area_mm2;
+      bridge + kBaseRelInterval * v.volume_mm3 + kRimSigmaMm * v.rim_area_mm2 + v.floor_hole_mm3;
   // Coarse bins (pv_config_t.surface_coarse_bins): what their few points
   // cannot resolve (surface::Model, sparse_mm3 and subbin_mm3).
   if (p.coarse_bins) interval_mm3 += m.sparse_mm3 + m.subbin_mm3;

@@ -203,6 +203,11 @@ struct Volume {
   double lo_mm3, hi_mm3;  // unseen bins bridged with the lower / higher neighbour
   double unseen_mm3;      // the part of the volume in bridged bins
   double rim_area_mm2;    // section just below the rim
+  // Holes in the floor between floor seen further in and further out along
+  // a ray (a wet patch on a bowl's slope): the floor there lies between
+  // the height carried outward and the straight line across; the volume
+  // takes the middle, this is half the difference (an interval term).
+  double floor_hole_mm3;
 };
 
 // Section area per integration step, for plots and pv_session_layers():

@@ -8,6 +8,13 @@
 // reachable from the well-seen wall in steps of at most 3 mm per bin
 // (surface_model.cpp, reject_unconnected).
 //
+// A patch on a bowl's slope leaves a hole in the floor map between floor
+// seen further in and further out; carried flat across it, the floor
+// overstated the void (bowl, 12 patches, seed 6: +0.62 % against
+// +/-0.25 %). Since 2026-12-02 the floor in such a hole is the middle of
+// the flat floor and the straight line across, and half their difference
+// is in the interval (surface_model.cpp, prepare_rays).
+//
 // Each case must measure within its interval of the exact volume.
 #include <cstdio>
 
@@ -31,6 +38,8 @@ void measures_within_its_interval(Family family, uint32_t patches, uint64_t seed
 void shallow_wide_20_patches(void **) { measures_within_its_interval(Family::ShallowWide, 20, 2); }
 void cylinder_8_patches(void **) { measures_within_its_interval(Family::Cylinder, 8, 2); }
 void bowl_20_patches(void **) { measures_within_its_interval(Family::Bowl, 20, 1); }
+// Before the floor holes' middle: +0.62 % +/- 0.25 (after: +0.15 % +/- 0.73).
+void bowl_12_patches_on_its_slope(void **) { measures_within_its_interval(Family::Bowl, 12, 6); }
 
 }  // namespace
 
@@ -39,6 +48,7 @@ int main() {
       cmocka_unit_test(shallow_wide_20_patches),
       cmocka_unit_test(cylinder_8_patches),
       cmocka_unit_test(bowl_20_patches),
+      cmocka_unit_test(bowl_12_patches_on_its_slope),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
