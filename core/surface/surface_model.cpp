@@ -265,8 +265,9 @@ inline uint32_t sub_cell_bit(double a_over_dth, double z_over_dz) {
   return 1u << (uint32_t(uz) * kSubT + uint32_t(ut));
 }
 
-// kCoarse (Params::coarse_bins, pass 1 only): the angle of each bin's
-// largest radius (theta_slopes) and the sub-cells the points fell in.
+// kCoarse (Params::coarse_bins): in pass 1, the angle of each bin's
+// largest radius (theta_slopes) and the sub-cells the points fell in; in
+// pass 2, no spread sum (WallBin::sdd shares the angle's place).
 template <bool kSecond, bool kCoarse = false>
 void grid_batch(void *c, const Point *pts, size_t count) {
   auto *x = static_cast<GridCtx *>(c);
@@ -331,6 +332,10 @@ void grid_batch(void *c, const Point *pts, size_t count) {
       const double zr = q.z - (g.z0 + (uint32_t(zb) + 0.5) * g.dz);
       ++b.n;
       b.sr += r;
+      if (!kCoarse) {
+        const float d = near_max(b) - r;
+        b.sdd += d * d;
+      }
       b.sz += zr;
       b.szz += zr * zr;
       b.srz += double(r) * zr;
@@ -412,11 +417,26 @@ constexpr uint32_t kMinSlopePoints = 8;
 // (theta_slopes) instead of none: its few points (those near its largest
 // radius) lie off its centre, on an oval wall at a radius millimetres from
 // the centre's (10 deg bins: ellipses read 1 to 1.7 % high without it).
-float bin_value(const WallBin &b, bool borrow = false, double slope_a = 0.0) {
-  const double n = b.n, mr = b.sr / n, mz = b.sz / n, ma = b.sa / n;
-  const double vz = b.szz / n - mz * mz, va = b.saa / n - ma * ma;
-  const double cza = b.sza / n - mz * ma;
-  const double crz = b.srz / n - mr * mz, cra = b.sra / n - mr * ma;
+// A bin's surface as a plane, r = mr + bz (z - mz) + ba (a - ma), fitted
+// to its surface points by least squares; the slopes only with enough
+// points and spread, and bounded.
+struct BinFit {
+  double mr, mz, ma, bz, ba;
+  double vz, va, cza, crz, cra;  // (co)variances of the points
+};
+
+BinFit bin_fit(const WallBin &b, bool borrow, double slope_a) {
+  BinFit f{};
+  const double n = b.n;
+  f.mr = b.sr / n;
+  f.mz = b.sz / n;
+  f.ma = b.sa / n;
+  f.vz = b.szz / n - f.mz * f.mz;
+  f.va = b.saa / n - f.ma * f.ma;
+  f.cza = b.sza / n - f.mz * f.ma;
+  f.crz = b.srz / n - f.mr * f.mz;
+  f.cra = b.sra / n - f.mr * f.ma;
+  const double vz = f.vz, va = f.va, cza = f.cza, crz = f.crz, cra = f.cra;
   double bz = 0, ba = 0;
   const bool use_z = b.n >= kMinSlopePoints && vz > 0.04;
   const double bin_rad = 1e-6;
@@ -435,9 +455,25 @@ float bin_value(const WallBin &b, bool borrow = false, double slope_a = 0.0) {
     ba = cra / va;
   }
   if (borrow && !use_a) ba = slope_a;
-  bz = std::clamp(bz, -3.0, 3.0);
-  ba = std::clamp(ba, -kMaxThetaSlope, kMaxThetaSlope);
-  return float(mr - bz * mz - ba * ma);
+  f.bz = std::clamp(bz, -3.0, 3.0);
+  f.ba = std::clamp(ba, -kMaxThetaSlope, kMaxThetaSlope);
+  return f;
+}
+
+float bin_value(const WallBin &b, bool borrow = false, double slope_a = 0.0) {
+  const BinFit f = bin_fit(b, borrow, slope_a);
+  return float(f.mr - f.bz * f.mz - f.ba * f.ma);
+}
+
+// The RMS distance of a bin's surface points from its fitted plane, mm.
+double bin_spread(const WallBin &b) {
+  const BinFit f = bin_fit(b, false, 0.0);
+  // r = top1 - d: the variance of r is that of d.
+  const double md = double(near_max(b)) - f.mr;
+  const double var_r = double(b.sdd) / b.n - md * md;
+  const double e2 = var_r - 2 * (f.bz * f.crz + f.ba * f.cra) + f.bz * f.bz * f.vz +
+                    f.ba * f.ba * f.va + 2 * f.bz * f.ba * f.cza;
+  return std::sqrt(std::max(e2, 0.0));
 }
 
 // A sparse bin far from the median of its well-seen neighbours holds no
@@ -611,8 +647,14 @@ void reject_unconnected(Workspace &ws, const Geo &g, const Params &p, Model *m) 
 // A scan registered twice puts about half of a bin's points a few mm
 // behind its band where the copies are further apart than the band; a
 // single scan puts multipath, texture grooves and crumbs there.
-void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, Model *m) {
-  uint32_t dense[AngleBins::kMaxBins] = {}, ghost[AngleBins::kMaxBins] = {};
+// A band thicker than this (RMS about the bin's plane) holds two walls:
+// the simulator's single scans, textured grooves included, reach it all
+// round, not on two opposite sides (docs/reliability.md, "Doubled scans").
+constexpr double kThickBandMm = 0.3;
+
+void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool coarse, Model *m) {
+  uint32_t dense[AngleBins::kMaxBins] = {}, ghost[AngleBins::kMaxBins] = {},
+           thick[AngleBins::kMaxBins] = {};
   for (uint32_t z = 0; z < g.Z; ++z) {
     for (uint32_t t = 0; t < g.T; ++t) {
       const WallBin &b = ws.wall[size_t(z) * g.T + t];
@@ -621,6 +663,12 @@ void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, Model *
       // 30 %: half of the points behind the band, less the noise that
       // keeps part of the second copy inside it.
       ghost[t] += 10 * uint64_t(b.n_ghost) >= 3 * uint64_t(b.n_all) ? 1 : 0;
+      // Copies closer than the band (1.5 mm) put both in it: its points
+      // then spread about the bin's plane by up to half their distance.
+      // Counted apart: further apart, the spread of the bins across the
+      // shift (an elliptical wall moved along itself) would dilute the
+      // contrast of the bins behind (a copy 4 mm apart passed).
+      thick[t] += !coarse && b.n >= kDenseBinPoints && bin_spread(b) > kThickBandMm ? 1 : 0;
     }
   }
   // Sectors of 60 deg: the bins within T / 12 of a centre (exclusive).
@@ -630,16 +678,23 @@ void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, Model *
     for (uint32_t d = 0; d <= 2 * w; ++d) sum += count[(centre + g.T - w + d) % g.T];
     return sum;
   };
-  m->ghost_contrast = -1;
+  // The largest, over the directions, of a count's share in the two
+  // sectors facing a direction less its share in the two across.
   const uint32_t half = g.T / 2, quarter = g.T / 4;
-  for (uint32_t k = 0; k < half; ++k) {
-    const uint32_t on_n = sector(dense, k) + sector(dense, k + half);
-    const uint32_t off_n = sector(dense, k + quarter) + sector(dense, k + half + quarter);
-    if (on_n < kMinSectorBins || off_n < kMinSectorBins) continue;
-    const double on = double(sector(ghost, k) + sector(ghost, k + half)) / on_n;
-    const double off = double(sector(ghost, k + quarter) + sector(ghost, k + half + quarter)) / off_n;
-    m->ghost_contrast = std::max(m->ghost_contrast, on - off);
-  }
+  const auto contrast = [&](const uint32_t *count) {
+    double c = -1;
+    for (uint32_t k = 0; k < half; ++k) {
+      const uint32_t on_n = sector(dense, k) + sector(dense, k + half);
+      const uint32_t off_n = sector(dense, k + quarter) + sector(dense, k + half + quarter);
+      if (on_n < kMinSectorBins || off_n < kMinSectorBins) continue;
+      const double on = double(sector(count, k) + sector(count, k + half)) / on_n;
+      const double off = double(sector(count, k + quarter) + sector(count, k + half + quarter)) / off_n;
+      c = std::max(c, on - off);
+    }
+    return c;
+  };
+  const double behind = contrast(ghost), spread = contrast(thick);
+  m->ghost_contrast = std::max(behind, spread);
   box.each(g.C, [&](size_t i, uint32_t, uint32_t) {
     const FloorCell &f = ws.floor[i];
     if (f.state != kFloor) return;
@@ -936,7 +991,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   const Geo g = geo_of(ws, *m, p);
   const size_t bins = size_t(g.T) * g.Z;
   for (size_t i = 0; i < bins; ++i) {
-    ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0, 0.0f, 0, 0, 0, 0, 0, 0, 0, 0};
+    ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0, {0.0f}, 0, 0, 0, 0, 0, 0, 0, 0};
   }
   const size_t cells = size_t(g.C) * g.C;
   for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty, 0};
@@ -955,7 +1010,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   widen_bands_on_slopes(ws, g, p);
   gc.second = true;
   gc.cache.start();
-  src.visit(src.ctx, grid_batch<true>, &gc);
+  src.visit(src.ctx, p.coarse_bins ? grid_batch<true, true> : grid_batch<true, false>, &gc);
 
   CellBox box;  // the cells that are not empty, from here on
   for (uint32_t row = 0; row < g.C; ++row) {
@@ -1003,7 +1058,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   if (m->seen_bins - m->rejected_bins < g.T) return Status::NoWall;
   bridge(ws, g, m);
   drop_floor_at_wall(ws, g, *m, p, box);
-  count_ghosts(ws, g, box, m);
+  count_ghosts(ws, g, box, p.coarse_bins, m);
 
   return Status::Ok;
 }

@@ -103,7 +103,15 @@ struct WallBin {
   uint8_t state;          // see BinState
   uint8_t gap;            // bridged: length of the bridge, bins (255: long)
   uint16_t n_ghost;       // points up to ghost_mm inside the band (saturates)
-  float atop;             // Params::coarse_bins: angle of top1 from the bin centre, rad
+  // Params::coarse_bins (the MCU profile): the angle of top1 from the bin
+  // centre, rad. Otherwise the sum over the surface points of (top1 - r)^2,
+  // small numbers whatever the radius: the band's spread about the bin's
+  // fit, for the doubled-scan check (the MCU's block has no room for a
+  // field more: it fills its 512 KiB region).
+  union {
+    float atop;
+    float sdd;
+  };
   double sr, sz, szz, srz;  // sums over the surface points (z from the bin centre)
   double sa, saa, sra, sza;  // the same for the angle from the bin centre, rad
 };
@@ -174,7 +182,8 @@ struct Model {
   // A second surface a few mm behind the first (a scan registered twice:
   // the scanner's tracking slipped). Wall: a ghost bin is a seen bin with
   // at least kDenseBinPoints points of which 30 % or more lie in the
-  // ghost_mm behind its band. Two copies a rigid shift apart lie apart
+  // ghost_mm behind its band, or whose band's points spread more than
+  // 0.3 mm about its plane (copies closer than the band). Two copies a rigid shift apart lie apart
   // across the wall on two opposite sides and not between, so
   // ghost_contrast is the largest, over the directions, of the ghost bins'
   // share in the two 60 deg sectors facing that direction less their share

@@ -83,7 +83,7 @@ std::string check_figures(const pv_result_t &r) {
       break;
     case PV_PIT_CHECK_DOUBLED_WALL:
       std::snprintf(b, sizeof b,
-                    "a second wall behind the first on two opposite sides: %.0f %% more of the wall than "
+                    "a second wall behind or within the first on two opposite sides: %.0f %% more of the wall than "
                     "across them (one scan: at most %.0f %%)",
                     100 * r.check_value, 100 * r.check_limit);
       break;

@@ -83,7 +83,8 @@ typedef enum pv_pit_check {
                                      too erratic to integrate) */
   PV_PIT_CHECK_DOUBLED_WALL = 7,  /* value: of the well-seen wall bins, the
                                      share with a second wall a few mm behind
-                                     the first on two opposite sides, less
+                                     the first (or within its band) on two
+                                     opposite sides, less
                                      the share across them (two copies a
                                      rigid shift apart); limit: the most a
                                      single scan shows */

@@ -6,7 +6,9 @@
 // second surface behind the first refuses them: PV_ERR_NOT_A_PIT with
 // PV_PIT_CHECK_DOUBLED_WALL (copies apart across the wall) or
 // PV_PIT_CHECK_DOUBLED_FLOOR (apart along the axis). The same scan sent
-// once measures within its interval.
+// once measures within its interval. Copies closer than the band read up
+// to +/-0.6 % with PV_OK until the band's spread joined the wall check
+// (2026-12-02).
 #include <cmath>
 #include <vector>
 
@@ -89,6 +91,16 @@ void tapered_doubled_along_the_axis(void **) {
   expect_doubled(Family::Tapered, false, 2, 0.0f, 0.2f, -2.0f, PV_PIT_CHECK_DOUBLED_FLOOR);
 }
 
+// Closer than the wall's band (1.5 mm): both copies inside it, so nothing
+// behind it; the band's points spread about the bin's plane instead.
+// Before that check: +0.57 % +/- 0.43 % (outside), and +0.06 % +/- 0.21 %.
+void shallow_wide_doubled_within_the_band(void **) {
+  expect_doubled(Family::ShallowWide, true, 1, 1.0f, 0.5f, 1.0f, PV_PIT_CHECK_DOUBLED_WALL);
+}
+void bowl_doubled_within_the_band(void **) {
+  expect_doubled(Family::Bowl, false, 2, 0.0f, 1.0f, 0.3f, PV_PIT_CHECK_DOUBLED_WALL);
+}
+
 }  // namespace
 
 int main() {
@@ -96,6 +108,8 @@ int main() {
       cmocka_unit_test(cylinder_doubled_sideways),
       cmocka_unit_test(tapered_doubled_sideways),
       cmocka_unit_test(tapered_doubled_along_the_axis),
+      cmocka_unit_test(shallow_wide_doubled_within_the_band),
+      cmocka_unit_test(bowl_doubled_within_the_band),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
