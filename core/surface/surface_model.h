@@ -215,7 +215,9 @@ struct Volume {
   // Holes in the floor between floor seen further in and further out along
   // a ray (a wet patch on a bowl's slope): the floor there lies between
   // the height carried outward and the straight line across; the volume
-  // takes the middle, this is half the difference (an interval term).
+  // takes the middle, this is half the difference (an interval term). Plus,
+  // where a hole 20 mm or longer reaches the wall, the whole volume between
+  // the carried floor and the line up to the column's lowest seen wall.
   double floor_hole_mm3;
 };
 
