@@ -1134,6 +1134,23 @@ struct FloorHoles {
   double open_mm3 = 0;  // holes open to the wall, to the lowest seen wall bin
 };
 
+// Along the carried floor fl of one ray, between the floor seen at ring
+// `from` and a point at ring `to`, height z_to: the volume between the
+// straight line from one to the other and the carried floor, signed (line
+// above: positive) in *line_minus_carried and absolute in *apart.
+void line_against_carried(const float *fl, int64_t from, int64_t to, double z_to, double dr,
+                          double dth, double *line_minus_carried, double *apart) {
+  const double z_from = double(fl[from]);
+  for (int64_t j = from + 1; j < to; ++j) {
+    const double u = double(j - from) / double(to - from);
+    const double line = z_from + u * (z_to - z_from);
+    const double ring = dth * (double(j) + 0.5) * dr * dr;
+    const double d = (line - double(fl[j])) * ring;
+    *line_minus_carried += d;
+    *apart += std::fabs(d);
+  }
+}
+
 constexpr double kMinOpenHoleMm = 20.0;
 
 // A hole open to the wall: beyond the last floor seen on ray t (ring
@@ -1150,19 +1167,14 @@ double open_hole(const Workspace &ws, const Geo &g, uint32_t t, const float *fl,
     const size_t i = size_t(z) * g.T + t;
     if (ws.wall[i].state != kSeen) continue;
     const double rw = ws.wall_val[i], zw = g.z0 + (z + 0.5) * g.dz;
-    const double z0 = double(fl[seen_at]);
     const auto kw = std::min<int64_t>(int64_t(rw / dr), int64_t(ws.cap.ray_steps));
     // The foot of a wall is hidden over a few mm on most scans: their
     // intervals stay as they were (the 802 sweep and set scans: 96 of
     // them widen, by 0.003 points in the median).
-    if (double(kw - seen_at) * dr < kMinOpenHoleMm) return 0.0;
-    double v = 0;
-    for (int64_t j = seen_at + 1; j < kw && zw > z0; ++j) {
-      const double u = double(j - seen_at) / double(kw - seen_at);
-      const double line = z0 + u * (zw - z0);
-      v += std::fabs(line - double(fl[j])) * dth * (double(j) + 0.5) * dr * dr;
-    }
-    return v;
+    if (double(kw - seen_at) * dr < kMinOpenHoleMm || !(zw > double(fl[seen_at]))) return 0.0;
+    double signed_mm3 = 0, apart_mm3 = 0;
+    line_against_carried(fl, seen_at, kw, zw, dr, dth, &signed_mm3, &apart_mm3);
+    return apart_mm3;
   }
   return 0.0;
 }
@@ -1194,13 +1206,9 @@ FloorHoles prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
           // overstates the void on a floor that rises outward (a bowl: a
           // wet patch on its slope read +0.62 % against +/-0.25 %), the
           // line across understates it on a curved one (-0.33 %).
-          for (int64_t j = seen_at + 1; seen_at >= 0 && j < int64_t(k); ++j) {
-            const double u = double(j - seen_at) / double(int64_t(k) - seen_at);
-            const double line = double(fl[seen_at]) + u * (double(h) - double(fl[seen_at]));
-            const double ring = dth * (double(j) + 0.5) * dr * dr;
-            const double d = (line - double(fl[j])) * ring;
-            holes.carried_minus_line_mm3 += d;
-            holes.spread_mm3 += std::fabs(d);
+          if (seen_at >= 0) {
+            line_against_carried(fl, seen_at, k, double(h), dr, dth,
+                                 &holes.carried_minus_line_mm3, &holes.spread_mm3);
           }
           seen_at = k;
         }

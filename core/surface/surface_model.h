@@ -182,13 +182,15 @@ struct Model {
   // A second surface a few mm behind the first (a scan registered twice:
   // the scanner's tracking slipped). Wall: a ghost bin is a seen bin with
   // at least kDenseBinPoints points of which 30 % or more lie in the
-  // ghost_mm behind its band, or whose band's points spread more than
-  // 0.3 mm about its plane (copies closer than the band). Two copies a rigid shift apart lie apart
-  // across the wall on two opposite sides and not between, so
-  // ghost_contrast is the largest, over the directions, of the ghost bins'
-  // share in the two 60 deg sectors facing that direction less their share
-  // in the two sectors across it (-1: no direction with kMinSectorBins
-  // dense bins in both). Grooves and multipath lie all round: no contrast.
+  // ghost_mm behind its band; a thick bin, one whose band's points spread
+  // more than 0.3 mm about its plane (copies closer than the band). Two
+  // copies a rigid shift apart lie apart across the wall on two opposite
+  // sides and not between, so ghost_contrast is the larger of two
+  // contrasts, the ghost bins' and the thick bins': the largest, over the
+  // directions, of their share in the two 60 deg sectors facing that
+  // direction less their share in the two sectors across it (-1: no
+  // direction with kMinSectorBins dense bins in both). Grooves and
+  // multipath lie all round: no contrast.
   // Floor: the points of the flooded floor cells in the band
   // (floor_points) and in the ghost_mm above it (floor_ghost_points).
   double ghost_contrast;
