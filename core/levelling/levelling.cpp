@@ -103,9 +103,8 @@ bool converge(const Eigen::Vector3d *a, size_t n, const Params &p, const RansacP
       if (s.b[i].z() < z_th) s.c[m++] = s.b[i];
     }
     report->candidates = uint32_t(m);
-    if (m < 3 || ransac_plane(s.c, m, rp, &plane, s.v, n) < 3) return false;
-    refine_plane(s.c, m, rp.tol_mm, &plane);
-    const uint32_t used = refine_plane(s.c, m, p.refine_tol_mm, &plane);
+    if (m < 3) return false;
+    const uint32_t used = fit_surface_plane(s.c, m, rp, p.refine_tol_mm, &plane, s.v, n);
     if (used < 3) return false;
     report->inliers = used;
     // Most of the pit lies on the positive side of its bottom plane.
@@ -193,9 +192,9 @@ Status estimate(const P3 *pts, size_t n, const Params &p, const Scratch &s,
     if (s.b[i].z() < z_th) s.c[z_count++] = s.b[i];
   }
   Plane flat;  // horizontal by construction after the last rotation
-  if (ransac_plane(s.c, z_count, rp, &flat, s.v, n) < 3) return Status::NoPlane;
-  refine_plane(s.c, z_count, rp.tol_mm, &flat);
-  refine_plane(s.c, z_count, p.refine_tol_mm, &flat);
+  if (fit_surface_plane(s.c, z_count, rp, p.refine_tol_mm, &flat, s.v, n) < 3) {
+    return Status::NoPlane;
+  }
   z_count = 0;
   for (size_t i = 0; i < n; ++i) {
     if (std::fabs(flat.distance(s.b[i])) <= p.refine_tol_mm) {

@@ -38,6 +38,17 @@ uint32_t ransac_plane(const Eigen::Vector3d *pts, size_t n,
 uint32_t refine_plane(const Eigen::Vector3d *pts, size_t n, double tol_mm,
                       Plane *plane);
 
+// The plane of one surface within narrow_tol_mm: RANSAC at p.tol_mm, least
+// squares within it, then within narrow_tol_mm. Two parallel surfaces closer
+// than p.tol_mm (a floor scanned twice, registered a few mm apart) pass the
+// wide band together and give a plane between them, near which the narrow
+// band finds nothing; then RANSAC runs again at narrow_tol_mm and the
+// plane is the denser surface's. Returns the points of the narrow fit, 0
+// if no plane (then *out is undefined).
+uint32_t fit_surface_plane(const Eigen::Vector3d *pts, size_t n, const RansacParams &p,
+                           double narrow_tol_mm, Plane *out, double *soa = nullptr,
+                           size_t soa_cap = 0);
+
 }  // namespace pv::levelling
 
 #endif

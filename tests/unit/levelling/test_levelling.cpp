@@ -8,9 +8,11 @@
 
 #include "levelling/hash_sample.h"
 #include "levelling/levelling.h"
+#include "levelling/plane_fit.h"
 #include "levelling/rodrigues.h"
 #include "common/point_hash.h"
 #include "synth/synthetic_pit.h"
+#include "test_rng.h"
 #include "pv_cmocka.h"  // last: see pv_cmocka.h
 
 namespace {
@@ -52,6 +54,30 @@ void hash_sample_is_order_independent(void **) {
   for (const pv::P3 &p : pts) all.push_back(pv::point_hash(p));
   std::sort(all.begin(), all.end());
   for (int i = 0; i < 256; ++i) assert_true(ca[i].hash == all[size_t(i)]);
+}
+
+// A floor scanned twice, 2 mm apart along its normal (tracking slipped):
+// both copies lie inside the wide band (2.5 mm), whose least-squares plane
+// falls between them, where the narrow band (0.6 mm) held no point and the
+// fit failed. Now the plane is the denser copy's, tilted as the floor is.
+void doubled_floor_gives_the_denser_copy(void **) {
+  pv::test::Rng rng{7};
+  const Eigen::Vector3d n = Eigen::Vector3d(0.1, -0.05, 1.0).normalized();
+  const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 3000; ++i) {
+    const double offset = i % 5 < 3 ? 0.0 : 2.0;  // 60 % on the lower copy
+    const double a = 200.0 * (rng.uniform() - 0.5), b = 200.0 * (rng.uniform() - 0.5);
+    pts.push_back(a * u + b * v + (offset + 0.05 * rng.gauss()) * n);
+  }
+  pv::levelling::RansacParams rp;
+  rp.tol_mm = 2.5;
+  pv::levelling::Plane plane;
+  const uint32_t used = pv::levelling::fit_surface_plane(pts.data(), pts.size(), rp, 0.6, &plane);
+  assert_int_equal(used, 1800);
+  const Eigen::Vector3d up = plane.n.dot(n) < 0 ? Eigen::Vector3d(-plane.n) : plane.n;
+  assert_true(angle_deg(up, n) < 0.05);
+  assert_true(std::fabs(plane.d) < 0.01);  // the lower copy: through the origin
 }
 
 struct Case {
@@ -122,6 +148,7 @@ int main() {
       cmocka_unit_test(hash_sample_is_order_independent),
       cmocka_unit_test(recovers_tilt_with_30_percent_outliers),
       cmocka_unit_test(too_few_points_is_reported),
+      cmocka_unit_test(doubled_floor_gives_the_denser_copy),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
