@@ -16,9 +16,12 @@
 //   target_points whatever the pit size; should a pass end short anyway,
 //   another pass with fresh jitter follows (at most kMaxPasses).
 // Per frame: a rays_x x rays_y pinhole grid over fov_deg (horizontal),
-// rtcIntersect8 packets, first hit only, taken on the triangle itself in
-// double precision (barycentrics). A hit returns with probability cos(i)
-// (the projected pattern dims and stretches at incidence i) and never beyond
+// rtcIntersect8 packets, first hit only; the hit point is recomputed on
+// the triangle Embree reports, in double precision in this file, so the
+// scan has the same bits on every x86-64 (Embree's SSE2 to AVX-512
+// kernels, glibc's libm with and without FMA: tests/unit/sim). A hit
+// returns with probability cos(i) (the projected pattern dims and
+// stretches at incidence i) and never beyond
 // 82 deg, which is what leaves steep upper walls sparse next to the floor.
 // Then: a stray_share of returns become far strays (uniform in a box 2-3x
 // the pit), a multipath_share become points 2..40 mm in front of the hit on
@@ -38,6 +41,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
@@ -68,6 +72,21 @@ double norm(V3 a) { return std::sqrt(dot(a, a)); }
 V3 normalized(V3 a) {
   const double n = norm(a);
   return n > 0.0 ? (1.0 / n) * a : a;
+}
+
+// The point where the ray o + t dir meets the plane of triangle abc, as
+// barycentrics on the triangle (Moller-Trumbore in double precision). Only
+// +, -, *, / in a fixed order: the same bits on every x86-64 (the sim is
+// built without floating-point contraction).
+V3 ray_triangle_point(V3 o, V3 dir, V3 a, V3 b, V3 c) {
+  const V3 e1 = b - a, e2 = c - a;
+  const V3 pv = cross(dir, e2);
+  const double det = dot(e1, pv);
+  if (det == 0.0) return a;  // parallel to the plane: Embree reports no such hit
+  const V3 tv = o - a;
+  const double u = dot(tv, pv) / det;
+  const double v = dot(dir, cross(tv, e1)) / det;
+  return (1.0 - u - v) * a + u * b + v * c;
 }
 
 // splitmix64 + Box-Muller, the same draws everywhere.
@@ -163,12 +182,15 @@ struct HandheldScan::Impl {
   }
 
   void build_scene() {
-    // Embree picks its kernels by the CPU: AVX-512 kernels trace other
-    // last bits than AVX2 ones, so the same seed gave another scan on an
-    // AVX-512 machine (test_standard_scan_pinned failed). Capped at AVX2,
-    // the corpus is the same on every x86-64 with AVX2 or better.
-    device = rtcNewDevice("threads=1,max_isa=avx2");
-    if (!device) throw std::runtime_error("embree: rtcNewDevice failed");
+    // Embree picks its kernels by the CPU, and their u, v, t differ in the
+    // last bits; the hits are recomputed (ray_triangle_point), so the scan
+    // does not depend on them. PITVOL_SIM_ISA caps the kernels (sse2,
+    // sse4.2, avx, avx2, avx512) for the tests that show it.
+    const char *isa = std::getenv("PITVOL_SIM_ISA");
+    const std::string config =
+        std::string("threads=1") + (isa && *isa ? std::string(",max_isa=") + isa : "");
+    device = rtcNewDevice(config.c_str());
+    if (!device) throw std::runtime_error("embree: rtcNewDevice(\"" + config + "\") failed");
     rtcSetDeviceErrorFunction(device, embree_error, nullptr);
     scene = rtcNewScene(device);
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
@@ -309,9 +331,12 @@ struct HandheldScan::Impl {
         } else if (cos_i <= 0.0) {
           continue;  // outward (into the soil) normal: front faces face the void
         }
-        // The hit on the triangle itself (barycentric, double precision).
-        const double u = rh.hit.u[l], v = rh.hit.v[l];
-        const V3 s = (1.0 - u - v) * a + u * b + v * c;
+        // The hit recomputed on the triangle Embree reports, in double
+        // precision from the ray as Embree saw it: Embree's own u, v, t
+        // carry last bits that depend on its SIMD kernels (SSE2, AVX2 and
+        // AVX-512 gave three scans from one seed), these do not.
+        const V3 s = ray_triangle_point(o, V3{rh.ray.dir_x[l], rh.ray.dir_y[l], rh.ray.dir_z[l]},
+                                        a, b, c);
         emit(s, d, norm(s - o), cos_i);
       }
     }
