@@ -3,7 +3,8 @@
 # that are missing, so it is cheap to run before every build (idempotent).
 # Usage: toolchain/install-deps.sh [--cross] [--peers] [--browser] [extra-package ...]
 #   --cross  also the board (aarch64) and MCU (Cortex-M7) toolchains and
-#            emulators, cppcheck, clang-tidy and the arm64 cmocka (docs/targets.md).
+#            emulators, cppcheck, clang-tidy, and the arm64 package lists
+#            the board's sysroot is downloaded from (docs/targets.md).
 #   --peers  also the peer programs of the accuracy report (CloudCompare,
 #            about 200 MB; only the `peers` CTest label needs it).
 #   --browser  also headless Chromium (about 360 MB), which the `report`
@@ -45,12 +46,23 @@ if [ $cross -eq 1 ]; then
     qemu-system-arm                          # MCU build, runs on mps2-an500
     cppcheck
     clang-tidy   # toolchain/run-clang-tidy.sh (by hand, not in CI: docs/targets.md)
-    # The board's unit tests link the arm64 cmocka (multiarch). Only this
-    # one arm64 -dev package: libusb-1.0-0-dev:arm64 and umockdev's would
-    # pull upgrades of amd64 systemd/udev, so the board has no USB driver
-    # build and the usb tests run natively only.
-    libcmocka-dev:arm64
+    # No arm64 package is installed: the board's libraries are unpacked
+    # into a sysroot by toolchain/arm64-sysroot.sh, which only needs the
+    # arm64 package lists (the architecture is added to dpkg below).
   )
+fi
+
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then
+  sudo_cmd=(sudo)
+fi
+export DEBIAN_FRONTEND=noninteractive
+if [ $cross -eq 1 ] && ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  command -v sudo >/dev/null || [ "$(id -u)" -eq 0 ] ||
+    { echo "pitvol: need root or sudo to add the arm64 architecture" >&2; exit 1; }
+  echo "pitvol: adding the arm64 architecture to dpkg (package lists for toolchain/arm64-sysroot.sh)" >&2
+  "${sudo_cmd[@]}" dpkg --add-architecture arm64
+  "${sudo_cmd[@]}" apt-get update -qq
 fi
 
 missing=()
@@ -61,21 +73,8 @@ for p in "${packages[@]}"; do
 done
 [ ${#missing[@]} -eq 0 ] && exit 0
 
-need_update=0
-if [ $cross -eq 1 ] && ! dpkg --print-foreign-architectures | grep -qx arm64; then
-  need_update=1  # arm64 package lists appear only after an update
-fi
-
 echo "pitvol: installing missing packages: ${missing[*]}" >&2
-sudo_cmd=()
-if [ "$(id -u)" -ne 0 ]; then
-  command -v sudo >/dev/null || { echo "pitvol: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
-  sudo_cmd=(sudo)
-fi
-export DEBIAN_FRONTEND=noninteractive
-if [ $need_update -eq 1 ]; then
-  echo "pitvol: adding the arm64 architecture to dpkg (for libcmocka-dev:arm64)" >&2
-  "${sudo_cmd[@]}" dpkg --add-architecture arm64
-fi
+command -v sudo >/dev/null || [ "$(id -u)" -eq 0 ] ||
+  { echo "pitvol: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"

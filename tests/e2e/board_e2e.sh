@@ -7,6 +7,12 @@
 # reference volume comes from `pitvol measure` on the same scan's PLY.
 #
 #   board_e2e.sh CASE BIN_DIR FIXTURE_DIR WORK_DIR
+# Environment (the board build under qemu, tests/e2e/CMakeLists.txt):
+#   PV_E2E_RUN       runs the board's programs: "umockdev-wrapper
+#                    qemu-aarch64-static -L SYSROOT"; empty natively
+#                    (pitvol-board-emu runs itself under umockdev-wrapper)
+#   PV_E2E_HOST_BIN  the host's pitvol (reference) and pitvol-monitor;
+#                    default BIN_DIR
 # CASE: full_scan | stop_mid_scan | unplug_idle | unplug_replug | unplug_end | no_scanner_at_start | refused
 #       | serial_link (pitvol-monitor over a pseudo-terminal, result log, density)
 set -uo pipefail
@@ -17,6 +23,10 @@ command -v umockdev-wrapper >/dev/null || { echo "SKIP: umockdev-wrapper not ins
 fail() { echo "FAIL [$case_name]: $*" >&2; [ -f "$work/board.log" ] && sed 's/^/  log: /' "$work/board.log" | grep -v "event tick" | tail -30 >&2; stop_board; exit 1; }
 pass() { echo "ok   [$case_name]: $*"; }
 
+read -ra run <<<"${PV_E2E_RUN:-}"
+host_bin=${PV_E2E_HOST_BIN:-$bin}
+board_emu() { "${run[@]}" "$bin/pitvol-board-emu" "$@"; }
+
 rm -rf "$work"
 mkdir -p "$work"
 pipe=$work/buttons
@@ -24,7 +34,8 @@ screens=$work/screens
 pid=
 
 start_board() { # frames file, then pitvol-board-emu options
-  "$bin/pitvol-board-emu" "$@" --display "png:$screens" --input "pipe:$pipe" \
+  # A simple command, not the function: $! is then the program itself.
+  "${run[@]}" "$bin/pitvol-board-emu" "$@" --display "png:$screens" --input "pipe:$pipe" \
     >"$work/board.log" 2>&1 &
   pid=$!
 }
@@ -55,7 +66,7 @@ has() { grep -qF -- "$2" "$1" || fail "$(basename "$1") lacks '$2'"; }
 # The reference: pitvol measure on the PLY of the same scan.
 reference() { # ply [pitvol measure options] -> "STATUS VOLUME"
   local json
-  json=$("$bin/pitvol" measure "$@" --json 2>/dev/null)
+  json=$("$host_bin/pitvol" measure "$@" --json 2>/dev/null)
   local st vol
   st=$(sed -n 's/.*"status": "\([A-Z_]*\)".*/\1/p' <<<"$json")
   vol=$(sed -n 's/.*"volume_cm3": \([^,]*\),.*/\1/p' <<<"$json")
@@ -225,14 +236,14 @@ serial_link)
   # against the board, every message of the protocol exchanged; the
   # monitor's result equals pitvol measure bit for bit; the result log keeps
   # it through a restart of the board.
-  mon() { "$bin/pitvol-monitor" "$work/port" "$@"; }
+  mon() { "$host_bin/pitvol-monitor" "$work/port" "$@"; }
   # A port that is not there: no link, said in the log; the board still works.
   start_board "$cyl.frames" --set "serial=$work/absent-tty"
   wait_log "screen idle" 30
   grep -q "serial link off: $work/absent-tty: " "$work/board.log" || fail "an absent port not reported"
   stop_board || fail "board did not exit cleanly"
   # A result log that cannot be opened stops the start (exit 3) and says why.
-  "$bin/pitvol-board-emu" "$cyl.frames" --display "png:$screens" --input none \
+  board_emu "$cyl.frames" --display "png:$screens" --input none \
     --set "result_log=$work/absent/results" >"$work/board.log" 2>&1
   rc=$?
   [ $rc -eq 3 ] || fail "unopenable result log: exit $rc, want 3"
@@ -308,7 +319,7 @@ serial_link)
   # function's subshell would leave the monitor running, and it would read
   # the replies meant for the fetch below.
   (printf 'start\n'; sleep 1.5; printf 'stop\n') |
-    "$bin/pitvol-monitor" "$work/port" watch --json --seconds 120 >"$work/watch2.json" &
+    "$host_bin/pitvol-monitor" "$work/port" watch --json --seconds 120 >"$work/watch2.json" &
   wpid=$!
   deadline=$((SECONDS + 120))
   until grep -q '"type": "result", "id": 2, .*"status": "PV_OK"' "$work/watch2.json" ||
