@@ -1,19 +1,22 @@
 /* pitvol-board: the board application (docs/board.md). */
 #include "board_cli.h"
 #include "board_link.h"
+#include "board_watchdog.h"
 
 static pv_board_link_t g_link; /* the serial link and result log: static, no allocation */
 
-static int link_start(pv_board_app_t *app, char *err, size_t errcap) {
-  return pv_board_link_start(&g_link, app, -1, err, errcap);
+static int after_init(pv_board_app_t *app, char *err, size_t errcap) {
+  if (pv_board_link_start(&g_link, app, -1, err, errcap) != 0) return -1;
+  return pv_board_watchdog_start(app, err, errcap);
 }
-static void link_stop(pv_board_app_t *app) {
+static void after_run(pv_board_app_t *app) {
   (void)app;
+  pv_board_watchdog_stop();
   pv_board_link_stop(&g_link);
 }
 
 int main(int argc, char **argv) {
   pv_board_block_signals();
-  const pv_board_cli_hooks_t hooks = {link_start, link_stop};
+  const pv_board_cli_hooks_t hooks = {after_init, after_run};
   return pv_board_cli_main(argc, argv, &hooks);
 }

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Every test: install what is missing, then
 #  1. Release (build/): every CTest label registered by default (unit,
-#     corpus, usb, cli, serial, e2e, report: about 30 s, docs/report.md);
+#     corpus, usb, cli, serial, e2e, report: about 30 s, docs/report.md;
+#     package: the amd64 .deb unpacked and run);
 #  2. Debug with ASan + UBSan (build-debug/): unit, usb, cli, serial, e2e
 #     and a sixth of the corpus, under the sanitizers (label slow stays in
 #     Release);
 #  3. the libFuzzer harnesses, a fixed number of executions each (fuzz);
 #  4. the board (aarch64, from a sysroot of Debian's arm64 packages; unit,
-#     bits and e2e tests under qemu-aarch64) and MCU (Cortex-M7, under
+#     bits, e2e and package tests under qemu-aarch64) and MCU (Cortex-M7, under
 #     qemu-system-arm) builds, their tests and the same-bits comparison
 #     with the Release build (docs/targets.md);
 #  5. cppcheck and the size report.
@@ -42,7 +43,7 @@ ctest --preset fuzz -j "$jobs"
 # the bits tests replay.
 cmake --preset board "$require" >/dev/null
 cmake --build --preset board -j "$jobs"
-ctest --preset board -j "$jobs" -L 'unit|bits|e2e' -LE slow
+ctest --preset board -j "$jobs" -L 'unit|bits|e2e|package' -LE slow
 cmake --preset mcu "$require" >/dev/null
 cmake --build --preset mcu -j "$jobs"
 ctest --preset mcu -j "$jobs" -L mcu

@@ -36,6 +36,7 @@ packages=(
   clang-14 libfuzzer-14-dev libclang-rt-14-dev  # fuzz/: libFuzzer + ASan/UBSan runtimes
   "${peer_packages[@]}"
   python3-matplotlib    # pitvol-report's plots (host_tools/report, /usr/bin/python3)
+  dpkg-dev systemd      # packages: dpkg-shlibdeps (cpack), systemd-analyze verify of the unit
   "${browser_packages[@]}"
   "$@"
 )
