@@ -8,6 +8,8 @@
 //                       [--peers-cached-only] [--case NAME ...]
 //                       [--peers-max-error PCT] [--grid-mm 1] [--cc-grid-mm 2]
 //                       [--html OUT.html]
+//   pitvol-accuracy SWEEP_DIR --envelope [--markdown] [--jobs N] [--peers ...]
+//       the envelope table of a `pitvol-sim sweep` (envelope_table.h)
 //
 // --html writes the results per case and method to OUT-results.csv (the
 // .html replaced) and makes OUT.html from it with build/report/
@@ -41,6 +43,7 @@
 #include <string>
 #include <vector>
 
+#include "envelope_table.h"
 #include "peer_runner.h"
 
 namespace {
@@ -248,6 +251,9 @@ const char kUsage[] =
     "                       [--peers-cached-only] [--case NAME ...]\n"
     "                       [--peers-max-error PCT] [--grid-mm 1] [--cc-grid-mm 2]\n"
     "                       [--html OUT.html]\n"
+    "       pitvol-accuracy SWEEP_DIR --envelope [--markdown] [--method NAME] [--jobs N]\n"
+    "                       [--title TEXT] [--peers LIST] [--peers-cache DIR]\n"
+    "                       [--peers-cached-only] [--worst N]\n"
     "       pitvol-accuracy --help\n";
 
 int usage() {
@@ -265,6 +271,8 @@ int main(int argc, char **argv) {
     }
   }
   if (argc < 2) return usage();
+  for (int i = 2; i < argc; ++i)
+    if (std::strcmp(argv[i], "--envelope") == 0) return pv::tools::envelope_main(argc, argv);
   const std::string dir = argv[1];
   std::vector<std::string> methods;
   std::string write_expected, check, html_out;

@@ -14,7 +14,7 @@ std::vector<CorpusCase> standard_corpus() {
   // Range noise from the 0.02 .. 0.2 mm, cycled over the cases.
   const double noise_mm[] = {0.02, 0.05, 0.1, 0.2};
   std::vector<CorpusCase> cases;
-  for (int f = 0; f < int(Family::kCount); ++f) {
+  for (int f = 0; f < kCorpusFamilies; ++f) {
     for (int k = 0; k < 3; ++k) {
       CorpusCase c;
       c.family = Family(f);
@@ -38,7 +38,7 @@ std::vector<CorpusCase> holdout_corpus() {
   // standard one's.
   const double noise_mm[] = {0.02, 0.05, 0.1, 0.2};
   std::vector<CorpusCase> cases;
-  for (int f = 0; f < int(Family::kCount); ++f) {
+  for (int f = 0; f < kCorpusFamilies; ++f) {
     for (int k = 0; k < 3; ++k) {
       CorpusCase c;
       c.family = Family(f);

@@ -167,6 +167,10 @@ struct HandheldScan::Impl {
   double tilt = 0.0;
 
   Rng path_rng{}, noise_rng{};
+  // Wall coverage: a cell per wall triangle (-1: not wall), returns per cell.
+  std::vector<int16_t> tri_cell;
+  std::vector<double> cell_area;
+  std::vector<uint32_t> cell_hits;
   std::vector<DropoutPatch> patches;
   PassJitter jit{};
   int pass = 0;
@@ -259,11 +263,17 @@ struct HandheldScan::Impl {
     // down and back at the wall below them).
     const double w = p.path_arc_deg < 360.0 ? std::clamp(0.85 + 0.3 * j.w.at(u), 0.6, 1.0)
                                             : std::clamp(0.5 + 0.8 * j.w.at(u), 0.0, 1.0);
-    const V3 target = (1.0 - w) * axis_pt + w * wall_pt;
+    V3 target = (1.0 - w) * axis_pt + w * wall_pt;
+    V3 at = pos;
+    if (p.outside_views > 0.0 && 0.5 + 0.5 * j.w.at(u) < p.outside_views) {
+      const double out = 1.35 + 0.2 * j.rad.at(u);
+      at = V3{out * radius * std::cos(phi), out * radius * std::sin(phi), rim + 60.0 + 40.0 * j.hgt.at(u)};
+      target = V3{radius * std::cos(phi), radius * std::sin(phi), rim - 0.25 * depth};
+    }
 
     Pose ps;
-    ps.pos = pos;
-    ps.fwd = normalized(target - pos);
+    ps.pos = at;
+    ps.fwd = normalized(target - at);
     V3 right = cross(ps.fwd, V3{0, 0, 1});
     if (norm(right) < 1e-6) right = V3{-std::sin(phi), std::cos(phi), 0.0};
     right = normalized(right);
@@ -275,10 +285,9 @@ struct HandheldScan::Impl {
     return ps;
   }
 
-  // Casts one frame; calls emit(surface point, ray dir, t_hit) per valid hit.
   // Casts one frame in packets of 8 rays (rtcIntersect8, row-major ray
-  // order); calls emit(surface point, ray dir, distance, cos incidence) per
-  // valid hit, in ray order.
+  // order); calls emit(surface point, ray dir, distance, cos incidence,
+  // triangle) per valid hit, in ray order.
   template <class F>
   void cast(const Pose &ps, F &&emit) const {
     const uint32_t nx = p.rays_x, ny = p.rays_y;
@@ -337,7 +346,7 @@ struct HandheldScan::Impl {
         // AVX-512 gave three scans from one seed), these do not.
         const V3 s = ray_triangle_point(o, V3{rh.ray.dir_x[l], rh.ray.dir_y[l], rh.ray.dir_z[l]},
                                         a, b, c);
-        emit(s, d, norm(s - o), cos_i);
+        emit(s, d, norm(s - o), cos_i, pid);
       }
     }
   }
@@ -383,6 +392,30 @@ struct HandheldScan::Impl {
       const V3 a = vertex(tri[3 * k]), b = vertex(tri[3 * k + 1]), c = vertex(tri[3 * k + 2]);
       const V3 q = a + b1 * (b - a) + b2 * (c - a);
       patches.push_back({q.x, q.y, q.z, r.uniform(lo, hi)});
+    }
+  }
+
+  // The wall cells of WallCoverage (reporting only: no draw, no point
+  // depends on them).
+  void build_cells() {
+    constexpr int kSectors = 36, kBands = 16;
+    const size_t nt = tri.size() / 3;
+    tri_cell.assign(nt, -1);
+    cell_area.assign(kSectors * kBands, 0.0);
+    cell_hits.assign(kSectors * kBands, 0);
+    for (size_t k = 0; k < nt; ++k) {
+      if (ground_tri[k]) continue;
+      const V3 a = vertex(tri[3 * k]), b = vertex(tri[3 * k + 1]), c = vertex(tri[3 * k + 2]);
+      const V3 n = cross(b - a, c - a);
+      const double area = 0.5 * norm(n);
+      if (area <= 0.0 || std::fabs(n.z) > 0.7071 * 2.0 * area) continue;  // floor-like
+      const V3 m = (1.0 / 3.0) * (a + b + c);
+      if (m.z > rim || std::sqrt(m.x * m.x + m.y * m.y) > radius + 1.0) continue;  // outer wall
+      const double ang = std::atan2(m.y, m.x) + kPi;
+      const int sec = std::min(kSectors - 1, static_cast<int>(ang / (2.0 * kPi) * kSectors));
+      const int band = std::clamp(static_cast<int>((m.z - zfloor) / depth * kBands), 0, kBands - 1);
+      tri_cell[k] = static_cast<int16_t>(band * kSectors + sec);
+      cell_area[static_cast<size_t>(band * kSectors + sec)] += area;
     }
   }
 
@@ -433,10 +466,11 @@ struct HandheldScan::Impl {
       ground_tri[k] = (flat || k >= ground_from) ? 1 : 0;  // the ring, even tilted
     }
     build_scene();
+    build_cells();
 
     // Transform, from its own stream.
-    Rng tr{derive_seed(p.seed, 1)};
-    tilt = tr.uniform(0.0, std::max(0.0, p.max_tilt_deg));
+    Rng tr{derive_seed(p.transform_seed != 0 ? p.transform_seed : p.seed, 1)};
+    tilt = tr.uniform(std::max(0.0, p.min_tilt_deg), std::max(0.0, p.max_tilt_deg));
     const double alpha = tr.uniform(0.0, 2.0 * kPi);
     const double yaw = tr.uniform(0.0, 2.0 * kPi);
     for (double &ti : t) ti = (tr.uniform() < 0.5 ? -1.0 : 1.0) * tr.uniform(100.0, 500.0);
@@ -471,7 +505,7 @@ struct HandheldScan::Impl {
     double hits = 0.0;
     for (int k = 0; k < kProbeFrames; ++k) {
       const double u = (k + 0.5) * kLoops / kProbeFrames;
-      cast(pose(u), [&](V3, V3, double, double c) { hits += keep_probability(c); });
+      cast(pose(u), [&](V3, V3, double, double c, uint32_t) { hits += keep_probability(c); });
     }
     const double per_frame = hits / kProbeFrames;
     if (per_frame > 0.0) {
@@ -504,10 +538,11 @@ struct HandheldScan::Impl {
     const double mp = std::max(0.0, p.multipath_share);
     const double sp = std::max(0.0, p.stray_share);
     const double sigma = std::max(0.0, p.noise_mm);
-    cast(ps, [&](V3 s, V3 d, double thit, double cos_i) {
+    cast(ps, [&](V3 s, V3 d, double thit, double cos_i, uint32_t pid) {
       if (!patches.empty() && in_dropout(s)) return;  // wet or dark soil
       // The pattern fades at grazing incidence: keep with keep_probability.
       if (noise_rng.uniform() >= keep_probability(cos_i)) return;
+      if (tri_cell[pid] >= 0) ++cell_hits[static_cast<size_t>(tri_cell[pid])];
       const double r = noise_rng.uniform();
       V3 q;
       if (r < sp) {
@@ -552,6 +587,31 @@ double HandheldScan::tilt_deg() const { return impl_->tilt; }
 
 const std::vector<DropoutPatch> &HandheldScan::dropout_patches() const {
   return impl_->patches;
+}
+
+WallCoverage wall_coverage_of(const std::vector<double> &area, const std::vector<uint32_t> &hits) {
+  WallCoverage w;
+  double total = 0.0, unseen = 0.0;
+  for (size_t i = 0; i < area.size() && i < hits.size(); ++i) {
+    if (area[i] <= 0.0) continue;
+    ++w.cells;
+    total += area[i];
+    if (hits[i] < 3) {
+      ++w.unseen_cells;
+      unseen += area[i];
+    }
+  }
+  w.unseen_share = total > 0.0 ? unseen / total : 0.0;
+  return w;
+}
+
+WallCoverage HandheldScan::wall_coverage() const {
+  return wall_coverage_of(impl_->cell_area, impl_->cell_hits);
+}
+
+void HandheldScan::wall_cells(std::vector<double> *area, std::vector<uint32_t> *hits) const {
+  *area = impl_->cell_area;
+  *hits = impl_->cell_hits;
 }
 
 }  // namespace pv::sim

@@ -46,6 +46,26 @@ struct ScanParams {
   uint32_t dropout_patches = 0;
   double dropout_radius_min_mm = 20.0;
   double dropout_radius_max_mm = 40.0;
+  // Envelope options (sim/envelope.h), defaults as above:
+  // - transform_seed != 0: the rigid transform into the world frame is
+  //   drawn from this seed instead of `seed`, so that passes with their own
+  //   seeds (paths, noise) share one pose of the pit;
+  // - the tilt is drawn in [min_tilt_deg, max_tilt_deg];
+  // - outside_views > 0: for about that share of the path the operator
+  //   steps back (1.15-1.55 x the pit radius out, 20-100 mm above the rim)
+  //   and aims at the wall just below the rim from outside: a container's
+  //   outer wall, seen as a handheld scan of one sees part of it.
+  uint64_t transform_seed = 0;
+  double min_tilt_deg = 0.0;
+  double outside_views = 0.0;
+};
+
+// How much of the wall a scan saw: the wall (triangles steeper than 45 deg,
+// not the ground ring or lip) in 36 sectors x 16 height bands between the
+// lowest vertex and the rim; a cell is seen once 3 returns came from it.
+struct WallCoverage {
+  double unseen_share = 0.0;  // wall area in cells never seen / wall area
+  uint32_t cells = 0, unseen_cells = 0;
 };
 
 // A dropout patch, in the pit frame.
@@ -58,6 +78,8 @@ struct Frame {
   uint64_t timestamp_us;
   std::vector<pv_point_t> points;  // world frame, millimetres
 };
+
+WallCoverage wall_coverage_of(const std::vector<double> &area, const std::vector<uint32_t> &hits);
 
 class HandheldScan {
  public:
@@ -73,6 +95,10 @@ class HandheldScan {
   double tilt_deg() const;
   // The dropout patches drawn for this scan (empty by default).
   const std::vector<DropoutPatch> &dropout_patches() const;
+  // The wall seen by the frames returned so far, and its cells (area,
+  // returns) for summing several passes (wall_coverage_of).
+  WallCoverage wall_coverage() const;
+  void wall_cells(std::vector<double> *area, std::vector<uint32_t> *hits) const;
 
  private:
   struct Impl;

@@ -286,11 +286,13 @@ struct GroundPlane {
   double at(double x, double y) const { return gx * x + gy * y; }
 };
 
-Pit build(const Shape &S, Family fam, bool ground, uint64_t seed, const PitOptions &opt) {
+Pit build(const Shape &S, Family fam, bool ground, uint64_t seed, const PitOptions &opt,
+          const std::vector<PitOptions::Bump> &bumps) {
   Pit pit{};
   pit.family = fam;
   pit.ground = ground;
   pit.seed = seed;
+  pit.surround = ground ? "ground" : "none";
   const size_t na = S.theta.size(), nr = S.t.size();
   const float hf = static_cast<float>(S.h);
   pit.rim_z_mm = static_cast<double>(hf);
@@ -307,13 +309,15 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed, const PitOptio
   if (S.floor)
     for (size_t j = 0; j < na; ++j)
       edge[j] = S.floor(rb[j] * cs[j], rb[j] * sn[j], 1.0, S.theta[j]);
-  if (opt.stone_height_mm != 0.0) {
-    // The stone must lie on a floor grid and clear the wall.
-    const double reach = std::hypot(opt.stone_x_mm, opt.stone_y_mm) + opt.stone_radius_mm + 2.0;
-    if (S.closing_vertex || opt.stone_height_mm < 0.0 || opt.stone_radius_mm <= 0.0 ||
+  for (const PitOptions::Bump &b : bumps) {
+    // A stone must lie on a floor grid and clear the wall.
+    const double reach = std::hypot(b.x_mm, b.y_mm) + b.radius_mm + 2.0;
+    if (S.closing_vertex || b.height_mm < 0.0 || b.radius_mm <= 0.0 ||
         reach > *std::min_element(rb.begin(), rb.end()))
       throw std::invalid_argument("make_pit: the stone must sit on a flat floor, clear of the wall");
   }
+  if (opt.container_lip_mm > 0.0 && (ground || opt.ground_tilt_deg != 0.0))
+    throw std::invalid_argument("make_pit: a container has neither ground nor a tilted ground plane");
   const GroundPlane plane(opt);
 
   Mesh &v = pit.void_closed;
@@ -398,7 +402,8 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed, const PitOptio
   // Ground annulus: from the rim ring to a circle, facing down (into the soil,
   // consistent with the wall across the rim edge).
   Rng grng(mix_seed(seed, 0x67726F756E64ull + static_cast<uint64_t>(fam)));
-  const double ground_w = q(grng.uniform(40.0, 80.0));
+  const double ground_w =
+      opt.ground_width_mm > 0.0 ? q(opt.ground_width_mm) : q(grng.uniform(40.0, 80.0));
   if (ground) {
     Mesh &sc = pit.scanned;
     const double rg = q(max_rim_r + ground_w);
@@ -432,6 +437,36 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed, const PitOptio
     pit.ground_triangles = 2 * na * mg;
   }
 
+  // Container: the outer wall (facing out, so that rays from outside meet
+  // its front), then the lip (last: the flat triangles the scan sees from
+  // above, like a ground ring).
+  if (opt.container_lip_mm > 0.0) {
+    Mesh &sc = pit.scanned;
+    const double w = opt.container_lip_mm;
+    const double wall_h = opt.container_wall_mm > 0.0 ? opt.container_wall_mm : pit.rim_z_mm;
+    const size_t top = sc.vertices(), bottom = top + na;
+    std::vector<double> lx(na), ly(na);
+    for (size_t j = 0; j < na; ++j) {
+      const double rx = static_cast<double>(v.xyz[3 * W(nr - 1, j)]);
+      const double ry = static_cast<double>(v.xyz[3 * W(nr - 1, j) + 1]);
+      const double r = std::hypot(rx, ry);
+      lx[j] = rx * (r + w) / r;
+      ly[j] = ry * (r + w) / r;
+      pit.lip_outer_radius_mm = std::max(pit.lip_outer_radius_mm, r + w);
+    }
+    for (size_t j = 0; j < na; ++j) push_vertex(sc.xyz, lx[j], ly[j], pit.rim_z_mm);
+    for (size_t j = 0; j < na; ++j) push_vertex(sc.xyz, lx[j], ly[j], pit.rim_z_mm - wall_h);
+    for (size_t j = 0; j < na; ++j) {
+      const size_t jn = (j + 1) % na;
+      push_tri(sc.tri, bottom + j, top + jn, bottom + jn);
+      push_tri(sc.tri, bottom + j, top + j, top + jn);
+    }
+    annulus_down(sc.tri, [&](size_t j) { return W(nr - 1, j); }, [&](size_t j) { return top + j; },
+                 na);
+    pit.ground_triangles = 2 * na;
+    pit.surround = "container";
+  }
+
   pit.max_radius_mm = max_r;
   pit.volume_mm3 = signed_volume_mm3(v);
 
@@ -460,6 +495,45 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed, const PitOptio
     extra.num("ground_tilt_deg", opt.ground_tilt_deg);
     extra.num("ground_tilt_azimuth_rad", opt.ground_tilt_azimuth_rad);
     extra.str("lid", "tilted ground plane");
+  }
+  if (opt.scale_xy != 1.0 || opt.scale_z != 1.0) {
+    extra.num("scale_xy", opt.scale_xy);
+    extra.num("scale_z", opt.scale_z);
+  }
+  if (opt.ground_width_mm > 0.0) extra.boolean("ground_width_override", true);
+  if (opt.container_lip_mm > 0.0) {
+    extra.str("surround", "container");
+    extra.num("lip_mm", opt.container_lip_mm);
+    extra.num("lip_outer_radius_mm", pit.lip_outer_radius_mm);
+    extra.num("outer_wall_mm",
+              opt.container_wall_mm > 0.0 ? opt.container_wall_mm : pit.rim_z_mm);
+  }
+  if (!opt.lumps.empty()) {
+    std::string arr = "[";
+    char buf[200];
+    for (size_t i = 0; i < opt.lumps.size(); ++i) {
+      const PitOptions::Bump &b = opt.lumps[i];
+      std::snprintf(buf, sizeof buf,
+                    "%s{\"height_mm\":%.17g,\"radius_mm\":%.17g,\"x_mm\":%.17g,\"y_mm\":%.17g}",
+                    i ? "," : "", b.height_mm, b.radius_mm, b.x_mm, b.y_mm);
+      arr += buf;
+    }
+    extra.raw("lumps", arr + "]");
+    double lv = 0.0;
+    for (const PitOptions::Bump &b : opt.lumps) lv += stone_volume_mm3(b.height_mm, b.radius_mm);
+    extra.num("lumps_volume_mm3", lv);
+  }
+  if (!opt.grooves.empty()) {
+    std::string arr = "[";
+    char buf[200];
+    for (size_t i = 0; i < opt.grooves.size(); ++i) {
+      const PitOptions::Groove &g = opt.grooves[i];
+      std::snprintf(buf, sizeof buf,
+                    "%s{\"z_mm\":%.17g,\"width_mm\":%.17g,\"depth_mm\":%.17g,\"tilt_mm\":%.17g}",
+                    i ? "," : "", g.z_mm, g.width_mm, g.depth_mm, g.tilt_mm);
+      arr += buf;
+    }
+    extra.raw("grooves", arr + "]");
   }
   if (opt.stone_height_mm != 0.0) {
     extra.num("stone_height_mm", opt.stone_height_mm);
@@ -647,6 +721,32 @@ Shape bowl(Rng &rng) {
   return S;
 }
 
+// A fully rounded bowl: a half-ellipsoid (semi-axes R across, c down)
+// under a short vertical wall; no flat floor anywhere, the bottom closes at
+// one vertex. Rings as the bowl's cap: about 1 mm of arc apart.
+Shape rounded_bowl(Rng &rng) {
+  Shape S;
+  const double R = q(rng.uniform(105.0, 115.0));
+  S.h = q(rng.uniform(150.0, 250.0));
+  const double wall = q(S.h * rng.uniform(0.05, 0.25));
+  const double c = S.h - wall;
+  S.closing_vertex = true;
+  S.theta = build_angles(720, 0.0, {});
+  const int ncap = static_cast<int>(std::ceil(0.5 * kPi * std::max(R, c)));
+  for (int i = 1; i < ncap; ++i) S.t.push_back(c * (1.0 - std::cos(0.5 * kPi * i / ncap)));
+  for (double z : build_levels(c, S.h, 1.0, 1.0, {})) S.t.push_back(z);
+  S.radius = [R, c](double, double z) {
+    if (z >= c) return R;
+    const double u = 1.0 - z / c;
+    return R * std::sqrt(std::max(0.0, 1.0 - u * u));
+  };
+  S.params.num("radius_mm", R);
+  S.params.num("cap_height_mm", c);
+  S.params.num("wall_mm", wall);
+  S.params.integer("cap_rings", ncap);
+  return S;
+}
+
 Shape necking(Rng &rng) {
   Shape S;
   const double R = q(rng.uniform(105.0, 115.0));
@@ -777,13 +877,14 @@ Shape make_shape(Family f, Rng &rng) {
     case Family::HandDug: return hand_dug(rng);
     case Family::ShallowWide: return cylinder_like(rng, 195.0, 205.0, 98.0, 102.0, 1440, 0.5);
     case Family::DeepNarrow: return cylinder_like(rng, 72.0, 78.0, 390.0, 410.0, 720, 1.0);
+    case Family::RoundedBowl: return rounded_bowl(rng);
     default: return cylinder_like(rng, 105.0, 115.0, 280.0, 300.0, 720, 1.0);
   }
 }
 
 const char *const kNames[] = {"cylinder", "protrusions", "textured",  "tapered",
                               "bowl",     "necking",     "bulge",     "elliptical",
-                              "hand_dug", "shallow_wide", "deep_narrow"};
+                              "hand_dug", "shallow_wide", "deep_narrow", "rounded_bowl"};
 
 std::string normalise(const std::string &s) {
   std::string o;
@@ -822,17 +923,71 @@ Pit make_pit(Family f, bool ground, uint64_t seed, const PitOptions &opt) {
     S.h = q(opt.depth_mm);
     S.t = build_levels(0.0, S.h, S.ring_step_mm, S.ring_step_mm, {});
   }
-  if (opt.stone_height_mm != 0.0) {
-    const double H = opt.stone_height_mm, a = opt.stone_radius_mm;
-    const double cx = opt.stone_x_mm, cy = opt.stone_y_mm;
+  if (opt.scale_xy != 1.0 || opt.scale_z != 1.0) {
+    // Stretch the drawn shape: heights by sz, radii and floor positions by
+    // sx, floor relief by sz.
+    const double sx = opt.scale_xy, sz = opt.scale_z;
+    if (!(sx > 0.0 && sz > 0.0)) throw std::invalid_argument("make_pit: scales must be positive");
+    S.h = q(S.h * sz);
+    for (double &t : S.t) t *= sz;
+    S.t.back() = S.h;
+    const auto r0 = S.radius;
+    S.radius = [r0, sx, sz](double th, double t) { return sx * r0(th, t / sz); };
+    if (S.floor) {
+      const auto f0 = S.floor;
+      S.floor = [f0, sx, sz](double x, double y, double s, double th) {
+        return sz * f0(x / sx, y / sx, s, th);
+      };
+    }
+    S.floor_blend_mm *= sz;
+    S.ring_step_mm *= sz;
+  }
+  if (!opt.grooves.empty()) {
+    const auto r0 = S.radius;
+    const std::vector<PitOptions::Groove> gr = opt.grooves;
+    S.radius = [r0, gr](double th, double t) {
+      double r = r0(th, t);
+      for (const auto &g : gr) {
+        const double u = t - (g.z_mm + g.tilt_mm * std::sin(th - g.phase_rad));
+        if (std::fabs(u) < 0.5 * g.width_mm)
+          r += g.depth_mm * 0.5 * (1.0 + std::cos(kTwoPi * u / g.width_mm));
+      }
+      return r;
+    };
+    // Rings at most 0.5 mm (and a tenth of the groove) apart across each.
+    std::vector<double> t = S.t;
+    const double lo = S.t.front(), hi = S.t.back();
+    for (const auto &g : gr) {
+      const double a = std::max(lo, g.z_mm - 0.5 * g.width_mm - std::fabs(g.tilt_mm));
+      const double b = std::min(hi, g.z_mm + 0.5 * g.width_mm + std::fabs(g.tilt_mm));
+      if (b <= a) continue;
+      const double step = std::min(0.5, 0.1 * g.width_mm);
+      const int n = static_cast<int>(std::ceil((b - a) / step));
+      for (int i = 0; i <= n; ++i) t.push_back(a + (b - a) * i / n);
+    }
+    std::sort(t.begin(), t.end());
+    S.t.clear();
+    for (double z : t)
+      if (S.t.empty() || z - S.t.back() > 1e-3) S.t.push_back(z);
+    S.t.back() = hi;
+  }
+  // The stone and the lumps, summed onto the floor (one stone: as before).
+  std::vector<PitOptions::Bump> bumps;
+  if (opt.stone_height_mm != 0.0)
+    bumps.push_back({opt.stone_height_mm, opt.stone_radius_mm, opt.stone_x_mm, opt.stone_y_mm});
+  bumps.insert(bumps.end(), opt.lumps.begin(), opt.lumps.end());
+  if (!bumps.empty()) {
     auto base = S.floor;
-    S.floor = [base, H, a, cx, cy](double x, double y, double s, double th) {
-      const double d = std::hypot(x - cx, y - cy);
-      const double stone = d < a ? 0.5 * H * (1.0 + std::cos(kPi * d / a)) : 0.0;
-      return (base ? base(x, y, s, th) : 0.0) + stone;
+    S.floor = [base, bumps](double x, double y, double s, double th) {
+      double acc = base ? base(x, y, s, th) : 0.0;
+      for (const auto &b : bumps) {
+        const double d = std::hypot(x - b.x_mm, y - b.y_mm);
+        acc += d < b.radius_mm ? 0.5 * b.height_mm * (1.0 + std::cos(kPi * d / b.radius_mm)) : 0.0;
+      }
+      return acc;
     };
   }
-  return build(S, f, ground, seed, opt);
+  return build(S, f, ground, seed, opt, bumps);
 }
 
 double stone_volume_mm3(double height_mm, double radius_mm) {

@@ -40,8 +40,14 @@ enum class Family {
   HandDug,       // radius varies with angle and depth, uneven bottom
   ShallowWide,   // 40 cm across, 10 cm deep
   DeepNarrow,    // 15 cm across, 40 cm deep
+  RoundedBowl,   // half-ellipsoid under a short vertical wall: no flat floor
   kCount
 };
+
+// The 11 families of the corpus sets (standard, holdout, stress), which
+// were fixed before RoundedBowl was added: the corpus iterates these only,
+// so a family added later leaves its scans byte for byte as they were.
+constexpr int kCorpusFamilies = 11;
 
 const char *family_name(Family f);           // "cylinder", "protrusions", ...
 bool family_from_name(const std::string &name, Family *out);
@@ -58,9 +64,13 @@ struct Pit {
   double ground_outer_radius_mm;  // 0 without ground
   std::string params_json; // the drawn parameters, a JSON object, for manifests
   // The last ground_triangles triangles of `scanned` are the ground ring
-  // (0 without ground). The scan sees them from above even when the ring is
-  // tilted out of the rim plane.
+  // (0 without ground) or a container's lip. The scan sees them from above
+  // even when the ring is tilted out of the rim plane.
   size_t ground_triangles = 0;
+  // What surrounds the rim: "ground" (the ring), "none", or "container"
+  // (PitOptions::container_lip_mm: a flat lip and an outer wall going down).
+  std::string surround;
+  double lip_outer_radius_mm = 0.0;  // container only: largest lip radius
 };
 
 // Departures from a family's drawn shape, for the stress corpus. The
@@ -89,6 +99,39 @@ struct PitOptions {
   double stone_height_mm = 0.0;
   double stone_radius_mm = 0.0;
   double stone_x_mm = 0.0, stone_y_mm = 0.0;
+
+  // The options below serve the envelope sweeps (sim/envelope.h); their
+  // defaults change nothing either.
+  //
+  // Size: the family's drawn shape stretched by scale_xy across and
+  // scale_z along the axis (ring heights, radii and floor relief alike),
+  // before grooves and stones are added in millimetres.
+  double scale_xy = 1.0, scale_z = 1.0;
+  // More stones and loose lumps on the floor, each a raised-cosine bump as
+  // the stone above (heights may overlap: they add). The same conditions:
+  // flat-floor families only, clear of the wall by 2 mm. The void
+  // excludes them.
+  struct Bump {
+    double height_mm, radius_mm, x_mm, y_mm;
+  };
+  std::vector<Bump> lumps;
+  // Grooves cut into the wall of any family: the radius grows by
+  //   depth (1 + cos(2 pi u / width)) / 2 for |u| < width / 2,
+  //   u = t - (z + tilt sin(theta - phase))
+  // (t the ring's nominal height); rings are refined to 0.5 mm across each.
+  struct Groove {
+    double z_mm, width_mm, depth_mm, tilt_mm, phase_rad;
+  };
+  std::vector<Groove> grooves;
+  // Width of the ground ring (0: drawn 40-80 mm from the seed, as always).
+  double ground_width_mm = 0.0;
+  // A container instead of ground (make_pit's `ground` must be false): a
+  // flat lip this wide (radially, from the rim ring) in the rim plane and
+  // an outer wall from the lip's outer edge container_wall_mm down (0: the
+  // pit's depth + 10 mm), facing out. The lid of void_closed stays in the
+  // rim plane, which is the lip's top plane.
+  double container_lip_mm = 0.0;
+  double container_wall_mm = 0.0;
 };
 
 // Parameters are drawn from the seed within the family's ranges.

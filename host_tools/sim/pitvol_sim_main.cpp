@@ -14,9 +14,19 @@
 //       (FILE: `pitvol measure SCAN --layers FILE`): where a measurement
 //       loses or gains volume (docs/accuracy.md). Level ground only: the
 //       pit's frame is then the levelled frame up to a turn about the axis.
+//   pitvol-sim sweep --seed S [--count N | --index I] [--family F]
+//                    [--condition C] [--frames] [--thin F] --out DIR
+//       the envelope sweep (sim/envelope.h; docs/accuracy.md, "The envelope
+//       sweeps"): N random scans (or case I alone) drawn from seed S, each
+//       DIR/<case>.ply (and .frames with --frames), a 1x twin beside every
+//       long, duplicated or slipped scan, DIR/manifest.csv + manifest.json.
+//       --thin F: every scan's point count times F (quick sweeps in tests).
+//       Seeds below 1000 are tuning seeds, 1000 and up fresh.
+//   pitvol-sim conditions
 //   pitvol-sim families
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -28,6 +38,7 @@
 #include <vector>
 
 #include "sim/corpus.h"
+#include "sim/envelope.h"
 #include "sim/scan_writer.h"
 
 namespace {
@@ -40,6 +51,9 @@ const char kUsage[] =
     "                       [--ground-tilt DEG] [--depth MM] --out PREFIX\n"
     "       pitvol-sim corpus [--set standard|holdout|stress] --out DIR\n"
     "       pitvol-sim slabs --family NAME [--no-ground] [--seed S] --layers FILE [--step MM]\n"
+    "       pitvol-sim sweep --seed S [--count N | --index I] [--family F] [--condition C]\n"
+    "                        [--frames] [--thin F] --out DIR\n"
+    "       pitvol-sim conditions\n"
     "       pitvol-sim families\n"
     "       pitvol-sim --help\n";
 
@@ -172,6 +186,89 @@ int slabs(const CorpusCase &c, const std::string &layers_path, double step_mm) {
   return 0;
 }
 
+// One sweep case (and its twin): files in dir, manifest lines appended.
+bool sweep_case(const EnvelopeCase &drawn, const std::string &dir, bool frames,
+                std::string *json, std::string *csv) {
+  std::vector<EnvelopeCase> todo = {drawn};
+  if (!drawn.twin.empty()) todo.push_back(envelope_twin(drawn));
+  const Pit pit = make_pit(drawn.family, drawn.ground, drawn.pit_seed, drawn.pit);
+  for (EnvelopeCase c : todo) {
+    const ScanPlan plan = envelope_plan(c, pit);
+    WrittenPlan w;
+    std::string err;
+    const std::string base = dir + "/" + c.name;
+    if (!write_scan_plan(pit, plan, base + ".ply", frames ? base + ".frames" : "", &w, &err)) {
+      std::fprintf(stderr, "pitvol-sim: %s\n", err.c_str());
+      return false;
+    }
+    // A scan that left over a tenth of the wall unseen may be refused for it.
+    if (c.expect == "measure" && w.coverage.unseen_share > 0.1) c.expect = "gap_ok";
+    *json += (json->empty() ? "  " : ",\n  ") + envelope_json(c, pit, w);
+    *csv += envelope_csv_row(c, pit, w) + "\n";
+    std::fprintf(stderr, "pitvol-sim: %-44s %9llu points  exact %12.3f cm3  unseen %.3f\n",
+                 c.name.c_str(), (unsigned long long)w.scan.points, pit.volume_mm3 / 1000.0,
+                 w.coverage.unseen_share);
+  }
+  return true;
+}
+
+int sweep(int argc, char **argv) {
+  uint64_t seed = 0;
+  long count = -1, index = -1;
+  bool have_seed = false, frames = false;
+  double thin = 1.0;  // every point count times this (quick sweeps for tests)
+  SweepFilter filter;
+  std::string out;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool more = i + 1 < argc;
+    double v = 0;
+    if (a == "--seed" && more && parse_num(argv[i + 1], &v) && v >= 1 && v < 1e15) {
+      seed = uint64_t(v);
+      have_seed = true;
+      ++i;
+    } else if (a == "--count" && more && parse_num(argv[i + 1], &v) && v >= 1 && v <= 100000) {
+      count = long(v);
+      ++i;
+    } else if (a == "--index" && more && parse_num(argv[i + 1], &v) && v >= 0 && v < 100000) {
+      index = long(v);
+      ++i;
+    } else if (a == "--family" && more) {
+      filter.family = argv[++i];
+    } else if (a == "--condition" && more) {
+      filter.condition = argv[++i];
+    } else if (a == "--frames") {
+      frames = true;
+    } else if (a == "--thin" && more && parse_num(argv[i + 1], &v) && v > 0 && v <= 1) {
+      thin = v;
+      ++i;
+    } else if (a == "--out" && more) {
+      out = argv[++i];
+    } else {
+      return usage(("unknown or incomplete sweep option '" + a + "'").c_str());
+    }
+  }
+  if (!have_seed || out.empty() || (count < 0) == (index < 0))
+    return usage("sweep needs --seed, --out and one of --count, --index");
+  mkdir(out.c_str(), 0755);
+  std::string json, csv;
+  const long first = index >= 0 ? index : 0, last = index >= 0 ? index + 1 : count;
+  for (long i = first; i < last; ++i) {
+    EnvelopeCase c;
+    std::string err;
+    if (!draw_envelope_case(seed, uint32_t(i), filter, &c, &err)) return usage(err.c_str());
+    c.scan.target_points = uint32_t(std::max(1000.0, c.scan.target_points * thin));
+    c.pass_points = uint32_t(c.pass_points * thin);
+    if (!sweep_case(c, out, frames, &json, &csv)) return 3;
+  }
+  if (!write_text(out + "/manifest.json", "[\n" + json + "\n]\n") ||
+      !write_text(out + "/manifest.csv", envelope_csv_header() + "\n" + csv)) {
+    std::fprintf(stderr, "pitvol-sim: cannot write the manifest in %s\n", out.c_str());
+    return 3;
+  }
+  return 0;
+}
+
 int run(int argc, char **argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
@@ -181,6 +278,11 @@ int run(int argc, char **argv) {
   }
   if (argc < 2) return usage(nullptr);
   const std::string cmd = argv[1];
+  if (cmd == "sweep") return sweep(argc, argv);
+  if (cmd == "conditions") {
+    for (const std::string &c : envelope_conditions()) std::printf("%s\n", c.c_str());
+    return 0;
+  }
   if (cmd == "families") {
     for (int f = 0; f < int(Family::kCount); ++f) std::printf("%s\n", family_name(Family(f)));
     return 0;

@@ -289,6 +289,13 @@ double nominal_volume(const Pit &p, double *tol) {
       *tol = 0.02;  // harmonics of a few % and a floor of a few mm
       return kPi * R * R * h;
     }
+    case Family::RoundedBowl: {
+      // The half-ellipsoid under its wall; the cap's rings are about 1 mm
+      // of arc apart (an inscribed polyline: slightly less).
+      const double R = jnum(js, "radius_mm"), c = jnum(js, "cap_height_mm");
+      *tol = 1e-4;
+      return kPi * R * R * (h - c) + 2.0 / 3.0 * kPi * R * R * c;
+    }
     default: *tol = 0; return 0;
   }
 }
