@@ -8,8 +8,9 @@
 #       [--jobs N] [--peers grid25,cloudcompare,poisson] [--write-doc]
 #
 # Seeds below 1000 are tuning seeds, 1000 and up fresh (held out). Default:
-# seed 1, 300 scans, build/envelope-s<S>-n<N>, 2 jobs. Needs the Release
-# build (cmake --preset default && cmake --build --preset default).
+# seed 1, 300 scans, build/envelope-s<S>-n<N>, 2 jobs (the sweep is made in
+# that many parts, cases --from I, then joined). Needs the Release build
+# (cmake --preset default && cmake --build --preset default).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 seed=1 count=300 out="" jobs=2 peers="" write_doc=0
@@ -29,9 +30,26 @@ bin=build/bin
 [ -x $bin/pitvol-sim ] && [ -x $bin/pitvol-accuracy ] || { echo "$0: build first (cmake --build --preset default)" >&2; exit 2; }
 args="sweep --seed $seed --count $count"
 if [ ! -f "$out/manifest.csv" ] || [ "$(cat "$out/sweep-args" 2>/dev/null)" != "$args" ]; then
-  rm -rf "$out"
+  rm -rf "$out" && mkdir -p "$out"
   start=$(date +%s)
-  $bin/pitvol-sim $args --out "$out" 2> >(grep -v '^pitvol-sim: s' >&2)
+  per=$(( (count + jobs - 1) / jobs )) pids=()
+  for ((k = 0; k < jobs && k * per < count; ++k)); do
+    n=$(( count - k * per < per ? count - k * per : per ))
+    $bin/pitvol-sim sweep --seed "$seed" --from $((k * per)) --count $n --out "$out/part-$k" \
+      2> >(grep -v '^pitvol-sim: s' >&2) &
+    pids+=($!)
+  done
+  for p in "${pids[@]}"; do wait "$p"; done
+  # One sweep again: the files side by side, the manifests end to end.
+  parts=$(ls -d "$out"/part-* | sort -t- -k2 -n)
+  head -1 "$out/part-0/manifest.csv" > "$out/manifest.csv"
+  for d in $parts; do
+    tail -n +2 "$d/manifest.csv" >> "$out/manifest.csv"
+    mv "$d"/*.ply "$out/"
+  done
+  { echo "["; for d in $parts; do sed '1d;$d' "$d/manifest.json" | sed '$!b; s/$/,/'; done | sed '$ s/,$//'; echo "]"; } \
+    > "$out/manifest.json"
+  rm -rf "$out"/part-*
   echo "$args" > "$out/sweep-args"
   echo "generated $count scans in $(( $(date +%s) - start )) s" >&2
 fi

@@ -348,7 +348,7 @@ int envelope_main(int argc, char **argv) {
   }
 
   // The tables.
-  const char *h4 = markdown ? "#### " : "";
+  const char *h4 = markdown ? "### " : "";
   size_t n_scans = 0, n_twins = 0;
   std::set<std::string> seeds;
   for (const Scan &s : scans) {
@@ -357,7 +357,7 @@ int envelope_main(int argc, char **argv) {
   }
   std::string seed_list;
   for (const std::string &s : seeds) seed_list += (seed_list.empty() ? "" : ", ") + s;
-  if (!title.empty()) std::printf("%s%s\n\n", markdown ? "### " : "", title.c_str());
+  if (!title.empty()) std::printf("%s%s\n\n", markdown ? "## " : "", title.c_str());
   std::printf("%zu scans (and %zu 1x twins) of sweep seed %s, method %s, `pitvol measure` "
               "without --units.\n\n",
               n_scans, n_twins, seed_list.c_str(), method.c_str());

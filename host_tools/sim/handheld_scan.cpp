@@ -145,6 +145,34 @@ void embree_error(void *, RTCError code, const char *str) {
   std::fprintf(stderr, "embree error %d: %s\n", static_cast<int>(code), str ? str : "");
 }
 
+// An Embree device and the committed scene of one mesh. The scene is only
+// read once committed, so scans of the same mesh one after the other (the
+// passes of a long scan) share it instead of building it again: the last
+// one built is kept, keyed by the mesh's bytes and Embree's configuration.
+struct EmbreeScene {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  uint64_t key = 0;
+  EmbreeScene() = default;
+  EmbreeScene(const EmbreeScene &) = delete;
+  EmbreeScene &operator=(const EmbreeScene &) = delete;
+  ~EmbreeScene() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+uint64_t fnv(uint64_t h, const void *p, size_t n) {
+  const auto *b = static_cast<const unsigned char *>(p);
+  for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+  return h;
+}
+
+std::shared_ptr<EmbreeScene> &last_scene() {
+  static std::shared_ptr<EmbreeScene> s;
+  return s;
+}
+
 }  // namespace
 
 struct HandheldScan::Impl {
@@ -154,7 +182,7 @@ struct HandheldScan::Impl {
   std::vector<uint32_t> tri;
   std::vector<uint8_t> ground_tri;  // triangle lies in the rim plane
 
-  RTCDevice device = nullptr;
+  std::shared_ptr<EmbreeScene> embree;
   RTCScene scene = nullptr;
 
   // Pit frame measures.
@@ -180,10 +208,6 @@ struct HandheldScan::Impl {
   uint64_t emitted = 0;
   bool done = false;
 
-  ~Impl() {
-    if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
-  }
 
   void build_scene() {
     // Embree picks its kernels by the CPU, and their u, v, t differ in the
@@ -193,10 +217,23 @@ struct HandheldScan::Impl {
     const char *isa = std::getenv("PITVOL_SIM_ISA");
     const std::string config =
         std::string("threads=1") + (isa && *isa ? std::string(",max_isa=") + isa : "");
+    uint64_t key = fnv(0xcbf29ce484222325ull, config.data(), config.size());
+    key = fnv(key, xyz.data(), xyz.size() * sizeof(float));
+    key = fnv(key, tri.data(), tri.size() * sizeof(uint32_t));
+    std::shared_ptr<EmbreeScene> &last = last_scene();
+    if (last && last->key == key) {
+      embree = last;
+      scene = embree->scene;
+      return;
+    }
+    last.reset();  // free the previous mesh's scene before building this one
+    embree = std::make_shared<EmbreeScene>();
+    embree->key = key;
+    RTCDevice &device = embree->device;
     device = rtcNewDevice(config.c_str());
     if (!device) throw std::runtime_error("embree: rtcNewDevice(\"" + config + "\") failed");
     rtcSetDeviceErrorFunction(device, embree_error, nullptr);
-    scene = rtcNewScene(device);
+    scene = embree->scene = rtcNewScene(device);
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     const size_t nv = xyz.size() / 3, nt = tri.size() / 3;
@@ -216,6 +253,7 @@ struct HandheldScan::Impl {
     rtcCommitScene(scene);
     if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
       throw std::runtime_error("embree: scene build failed");
+    last = embree;
   }
 
   V3 vertex(uint32_t i) const {

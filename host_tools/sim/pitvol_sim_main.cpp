@@ -14,10 +14,11 @@
 //       (FILE: `pitvol measure SCAN --layers FILE`): where a measurement
 //       loses or gains volume (docs/accuracy.md). Level ground only: the
 //       pit's frame is then the levelled frame up to a turn about the axis.
-//   pitvol-sim sweep --seed S [--count N | --index I] [--family F]
+//   pitvol-sim sweep --seed S [[--from I] --count N | --index I] [--family F]
 //                    [--condition C] [--frames] [--thin F] --out DIR
 //       the envelope sweep (sim/envelope.h; docs/accuracy.md, "The envelope
-//       sweeps"): N random scans (or case I alone) drawn from seed S, each
+//       sweeps"): N random scans (cases I .. I+N-1 with --from; or case I
+//       alone with --index) drawn from seed S, each
 //       DIR/<case>.ply (and .frames with --frames), a 1x twin beside every
 //       long, duplicated or slipped scan, DIR/manifest.csv + manifest.json.
 //       --thin F: every scan's point count times F (quick sweeps in tests).
@@ -51,7 +52,7 @@ const char kUsage[] =
     "                       [--ground-tilt DEG] [--depth MM] --out PREFIX\n"
     "       pitvol-sim corpus [--set standard|holdout|stress] --out DIR\n"
     "       pitvol-sim slabs --family NAME [--no-ground] [--seed S] --layers FILE [--step MM]\n"
-    "       pitvol-sim sweep --seed S [--count N | --index I] [--family F] [--condition C]\n"
+    "       pitvol-sim sweep --seed S [[--from I] --count N | --index I] [--family F] [--condition C]\n"
     "                        [--frames] [--thin F] --out DIR\n"
     "       pitvol-sim conditions\n"
     "       pitvol-sim families\n"
@@ -214,7 +215,7 @@ bool sweep_case(const EnvelopeCase &drawn, const std::string &dir, bool frames,
 
 int sweep(int argc, char **argv) {
   uint64_t seed = 0;
-  long count = -1, index = -1;
+  long count = -1, index = -1, from = 0;
   bool have_seed = false, frames = false;
   double thin = 1.0;  // every point count times this (quick sweeps for tests)
   SweepFilter filter;
@@ -232,6 +233,9 @@ int sweep(int argc, char **argv) {
       ++i;
     } else if (a == "--index" && more && parse_num(argv[i + 1], &v) && v >= 0 && v < 100000) {
       index = long(v);
+      ++i;
+    } else if (a == "--from" && more && parse_num(argv[i + 1], &v) && v >= 0 && v < 100000) {
+      from = long(v);
       ++i;
     } else if (a == "--family" && more) {
       filter.family = argv[++i];
@@ -252,7 +256,7 @@ int sweep(int argc, char **argv) {
     return usage("sweep needs --seed, --out and one of --count, --index");
   mkdir(out.c_str(), 0755);
   std::string json, csv;
-  const long first = index >= 0 ? index : 0, last = index >= 0 ? index + 1 : count;
+  const long first = index >= 0 ? index : from, last = index >= 0 ? index + 1 : from + count;
   for (long i = first; i < last; ++i) {
     EnvelopeCase c;
     std::string err;
@@ -260,11 +264,12 @@ int sweep(int argc, char **argv) {
     c.scan.target_points = uint32_t(std::max(1000.0, c.scan.target_points * thin));
     c.pass_points = uint32_t(c.pass_points * thin);
     if (!sweep_case(c, out, frames, &json, &csv)) return 3;
-  }
-  if (!write_text(out + "/manifest.json", "[\n" + json + "\n]\n") ||
-      !write_text(out + "/manifest.csv", envelope_csv_header() + "\n" + csv)) {
-    std::fprintf(stderr, "pitvol-sim: cannot write the manifest in %s\n", out.c_str());
-    return 3;
+    // The manifest after every case: a sweep stopped part way is usable.
+    if (!write_text(out + "/manifest.json", "[\n" + json + "\n]\n") ||
+        !write_text(out + "/manifest.csv", envelope_csv_header() + "\n" + csv)) {
+      std::fprintf(stderr, "pitvol-sim: cannot write the manifest in %s\n", out.c_str());
+      return 3;
+    }
   }
   return 0;
 }

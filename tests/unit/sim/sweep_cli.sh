@@ -43,5 +43,5 @@ grep -q '"measure_units": null' "$work/a/manifest.json" || fail "manifest.json l
 echo "sweep: 12 scans and $twins twins; --index 3 and 5 the same bytes"
 "$acc" "$work/a" --envelope --markdown > "$work/table.md"
 grep -q '^| mean abs error <= 0.05 %' "$work/table.md" || fail "no targets in the envelope table"
-grep -q '^#### The envelope: family x size x condition' "$work/table.md" || fail "no envelope table"
+grep -q '^### The envelope: family x size x condition' "$work/table.md" || fail "no envelope table"
 echo "pitvol-accuracy --envelope: table written"
