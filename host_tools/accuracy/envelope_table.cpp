@@ -17,7 +17,6 @@
 // scans; twins are measured for the comparison only.
 #include "envelope_table.h"
 
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -97,25 +96,9 @@ bool read_sweep(const std::string &dir, std::vector<Scan> *scans, std::string *e
   return !scans->empty();
 }
 
-std::string self_dir() {
-  char buf[4096];
-  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
-  if (n <= 0) return ".";
-  const std::string s(buf, size_t(n));
-  return s.substr(0, s.find_last_of('/'));
-}
-
-Result measure(const std::string &pitvol, const std::string &file, const std::string &method) {
-  const std::string cmd = "'" + pitvol + "' measure '" + file + "' --json --no-progress --method " +
-                          method + " 2>/dev/null";
+Result measure(const std::string &bin_dir, const std::string &file, const std::string &method) {
+  const std::string out = measure_json(bin_dir, file, method);
   Result r;
-  FILE *p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  pclose(p);
   r.status = json_str(out, "status");
   if (r.status.empty()) r.status = "NO_OUTPUT";
   r.volume = json_num(out, "volume_cm3");
@@ -299,12 +282,12 @@ int envelope_main(int argc, char **argv) {
   }
 
   // Measure, `jobs` at a time.
-  const std::string pitvol = self_dir() + "/pitvol";
+  const std::string bin_dir = self_dir();
   std::vector<Result> results(scans.size());
   std::atomic<size_t> next{0};
   auto work = [&] {
     for (size_t i = next++; i < scans.size(); i = next++)
-      results[i] = measure(pitvol, dir + "/" + scans[i].name + ".ply", method);
+      results[i] = measure(bin_dir, dir + "/" + scans[i].name + ".ply", method);
   };
   std::vector<std::thread> pool;
   for (int j = 0; j < jobs; ++j) pool.emplace_back(work);
@@ -319,7 +302,7 @@ int envelope_main(int argc, char **argv) {
   // Peers, on the scans that are not twins (cached: DIR/peers).
   std::map<std::string, std::map<std::string, PeerResult>> peer_results;  // case -> peer
   if (!peers.empty()) {
-    popt.bin_dir = self_dir();
+    popt.bin_dir = bin_dir;
     popt.export_method = method;
     if (popt.cache_dir.empty()) popt.cache_dir = dir + "/peers";
     PeerRunner runner(popt);

@@ -30,21 +30,6 @@ std::string quote(const std::string &s) {
   return q + "'";
 }
 
-// stdout of a shell command, and its exit status.
-std::string capture(const std::string &cmd, int *status) {
-  std::string out;
-  FILE *p = popen(cmd.c_str(), "r");
-  if (!p) {
-    *status = -1;
-    return out;
-  }
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  *status = pclose(p);
-  return out;
-}
-
 std::string read_file(const std::string &path) {
   std::ifstream in(path);
   std::stringstream ss;
@@ -121,6 +106,36 @@ std::string entry(const PeerResult &r) {
 }
 
 }  // namespace
+
+std::string capture(const std::string &cmd, int *status) {
+  std::string out;
+  FILE *p = popen(cmd.c_str(), "r");
+  if (!p) {
+    *status = -1;
+    return out;
+  }
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  *status = pclose(p);
+  return out;
+}
+
+std::string self_dir() {
+  char buf[4096];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n <= 0) return ".";
+  const std::string s(buf, size_t(n));
+  return s.substr(0, s.find_last_of('/'));
+}
+
+std::string measure_json(const std::string &bin_dir, const std::string &file,
+                         const std::string &method) {
+  int status = 0;
+  return capture(quote(bin_dir + "/pitvol") + " measure " + quote(file) +
+                     " --json --no-progress --method " + method + " 2>/dev/null",
+                 &status);
+}
 
 std::string json_str(const std::string &j, const std::string &key) {
   const size_t k = j.find("\"" + key + "\": \"");

@@ -30,6 +30,17 @@ namespace pv::tools {
 std::string json_str(const std::string &j, const std::string &key);
 double json_num(const std::string &j, const std::string &key);
 
+// stdout of a shell command, and its exit status (pclose's).
+std::string capture(const std::string &cmd, int *status);
+
+// The folder of the running program (where pitvol and the peers are).
+std::string self_dir();
+
+// `pitvol measure FILE --json --no-progress --method METHOD`'s JSON, pitvol
+// from bin_dir ("" when it printed nothing).
+std::string measure_json(const std::string &bin_dir, const std::string &file,
+                         const std::string &method);
+
 struct PeerResult {
   std::string status;  // "ok", else why there is no volume
   double volume_cm3 = NAN;

@@ -50,6 +50,7 @@ namespace {
 
 using pv::tools::json_num;
 using pv::tools::json_str;
+using pv::tools::self_dir;
 
 struct Case {
   std::string name, family;
@@ -84,26 +85,10 @@ bool read_manifest(const std::string &dir, std::vector<Case> *cases) {
   return !cases->empty();
 }
 
-std::string self_dir() {
-  char buf[4096];
-  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
-  if (n <= 0) return ".";
-  std::string s(buf, size_t(n));
-  return s.substr(0, s.find_last_of('/'));
-}
-
-Outcome measure(const std::string &pitvol, const std::string &file, const std::string &method,
+Outcome measure(const std::string &bin_dir, const std::string &file, const std::string &method,
                 double exact_cm3) {
-  const std::string cmd = "'" + pitvol + "' measure '" + file + "' --json --no-progress --method " +
-                          method + " 2>/dev/null";
+  const std::string out = pv::tools::measure_json(bin_dir, file, method);
   Outcome o;
-  FILE *p = popen(cmd.c_str(), "r");
-  if (!p) return o;
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  pclose(p);
   o.status = json_str(out, "status");
   if (o.status.empty()) o.status = "NO_OUTPUT";
   o.volume_cm3 = json_num(out, "volume_cm3");
@@ -334,11 +319,11 @@ int main(int argc, char **argv) {
     }
     cases = kept;
   }
-  const std::string pitvol = self_dir() + "/pitvol";
+  const std::string bin_dir = pv::tools::self_dir();
 
   std::map<std::string, std::map<std::string, Outcome>> results;  // method -> case
   for (const std::string &m : methods) {
-    for (const Case &c : cases) results[m][c.name] = measure(pitvol, dir + "/" + c.name + ".ply", m, c.exact_cm3);
+    for (const Case &c : cases) results[m][c.name] = measure(bin_dir, dir + "/" + c.name + ".ply", m, c.exact_cm3);
   }
 
   // The peers, on the cloud levelled by the first method.

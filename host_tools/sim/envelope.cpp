@@ -3,6 +3,7 @@
 // square roots, Gaussians as sums of uniforms, directions by rejection), so
 // a case is the same numbers on every x86-64.
 #include "sim/envelope.h"
+#include "sim/splitmix.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,12 +18,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 struct Rng {
   uint64_t s;
-  uint64_t next() {
-    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
+  uint64_t next() { return splitmix64(&s); }
   double uniform() { return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0); }
   double uniform(double a, double b) { return a + (b - a) * uniform(); }
   int integer(int lo, int hi) {  // inclusive

@@ -35,6 +35,7 @@
 // nothing. Triangles in the rim plane (the ground ring) are always seen
 // from above.
 #include "sim/handheld_scan.h"
+#include "sim/splitmix.h"
 
 #include <embree3/rtcore.h>
 
@@ -92,12 +93,7 @@ V3 ray_triangle_point(V3 o, V3 dir, V3 a, V3 b, V3 c) {
 // splitmix64 + Box-Muller, the same draws everywhere.
 struct Rng {
   uint64_t s;
-  uint64_t next() {
-    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
+  uint64_t next() { return splitmix64(&s); }
   double uniform() {  // (0, 1)
     return (static_cast<double>(next() >> 11) + 0.5) * (1.0 / 9007199254740992.0);
   }

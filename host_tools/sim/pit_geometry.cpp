@@ -21,6 +21,7 @@
 // float mesh encloses the intended polygonal solid to ~1e-10 relative rather
 // than ~1e-9.
 #include "sim/pit_geometry.h"
+#include "sim/splitmix.h"
 
 #include <algorithm>
 #include <cmath>
@@ -41,12 +42,7 @@ constexpr double kTwoPi = 2.0 * kPi;
 struct Rng {
   uint64_t s;
   explicit Rng(uint64_t seed) : s(seed) {}
-  uint64_t next() {
-    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
+  uint64_t next() { return splitmix64(&s); }
   double uniform() { return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0); }
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
   int integer(int lo, int hi) {  // inclusive
@@ -186,6 +182,22 @@ std::string num_array(const std::vector<double> &v) {
   for (size_t i = 0; i < v.size(); ++i) {
     std::snprintf(buf, sizeof buf, "%s%.17g", i ? "," : "", v[i]);
     s += buf;
+  }
+  return s + "]";
+}
+
+// [{"k0":v,"k1":v,...},...]: one object per row, the keys in order.
+std::string object_array(const std::vector<const char *> &keys,
+                         const std::vector<std::vector<double>> &rows) {
+  std::string s = "[";
+  char buf[48];
+  for (size_t i = 0; i < rows.size(); ++i) {
+    s += i ? ",{" : "{";
+    for (size_t k = 0; k < keys.size() && k < rows[i].size(); ++k) {
+      std::snprintf(buf, sizeof buf, "%.17g", rows[i][k]);
+      s += std::string(k ? ",\"" : "\"") + keys[k] + "\":" + buf;
+    }
+    s += "}";
   }
   return s + "]";
 }
@@ -509,31 +521,20 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed, const PitOptio
               opt.container_wall_mm > 0.0 ? opt.container_wall_mm : pit.rim_z_mm);
   }
   if (!opt.lumps.empty()) {
-    std::string arr = "[";
-    char buf[200];
-    for (size_t i = 0; i < opt.lumps.size(); ++i) {
-      const PitOptions::Bump &b = opt.lumps[i];
-      std::snprintf(buf, sizeof buf,
-                    "%s{\"height_mm\":%.17g,\"radius_mm\":%.17g,\"x_mm\":%.17g,\"y_mm\":%.17g}",
-                    i ? "," : "", b.height_mm, b.radius_mm, b.x_mm, b.y_mm);
-      arr += buf;
-    }
-    extra.raw("lumps", arr + "]");
     double lv = 0.0;
-    for (const PitOptions::Bump &b : opt.lumps) lv += stone_volume_mm3(b.height_mm, b.radius_mm);
+    std::vector<std::vector<double>> rows;
+    for (const PitOptions::Bump &b : opt.lumps) {
+      rows.push_back({b.height_mm, b.radius_mm, b.x_mm, b.y_mm});
+      lv += stone_volume_mm3(b.height_mm, b.radius_mm);
+    }
+    extra.raw("lumps", object_array({"height_mm", "radius_mm", "x_mm", "y_mm"}, rows));
     extra.num("lumps_volume_mm3", lv);
   }
   if (!opt.grooves.empty()) {
-    std::string arr = "[";
-    char buf[200];
-    for (size_t i = 0; i < opt.grooves.size(); ++i) {
-      const PitOptions::Groove &g = opt.grooves[i];
-      std::snprintf(buf, sizeof buf,
-                    "%s{\"z_mm\":%.17g,\"width_mm\":%.17g,\"depth_mm\":%.17g,\"tilt_mm\":%.17g}",
-                    i ? "," : "", g.z_mm, g.width_mm, g.depth_mm, g.tilt_mm);
-      arr += buf;
-    }
-    extra.raw("grooves", arr + "]");
+    std::vector<std::vector<double>> rows;
+    for (const PitOptions::Groove &g : opt.grooves)
+      rows.push_back({g.z_mm, g.width_mm, g.depth_mm, g.tilt_mm});
+    extra.raw("grooves", object_array({"z_mm", "width_mm", "depth_mm", "tilt_mm"}, rows));
   }
   if (opt.stone_height_mm != 0.0) {
     extra.num("stone_height_mm", opt.stone_height_mm);
@@ -700,11 +701,11 @@ Shape tapered(Rng &rng) {
   return S;
 }
 
-Shape bowl(Rng &rng) {
+// A half-ellipsoid cap (semi-axes R across, c down) under a vertical wall
+// up to h, closing at one vertex; the cap's rings about 1 mm of arc apart.
+Shape capped(double R, double h, double c) {
   Shape S;
-  const double R = q(rng.uniform(105.0, 115.0));
-  S.h = q(rng.uniform(280.0, 300.0));
-  const double c = q(rng.uniform(40.0, 80.0));
+  S.h = h;
   S.closing_vertex = true;
   S.theta = build_angles(720, 0.0, {});
   const int ncap = static_cast<int>(std::ceil(0.5 * kPi * std::max(R, c)));  // ~1 mm of arc
@@ -721,29 +722,21 @@ Shape bowl(Rng &rng) {
   return S;
 }
 
-// A fully rounded bowl: a half-ellipsoid (semi-axes R across, c down)
-// under a short vertical wall; no flat floor anywhere, the bottom closes at
-// one vertex. Rings as the bowl's cap: about 1 mm of arc apart.
-Shape rounded_bowl(Rng &rng) {
-  Shape S;
+Shape bowl(Rng &rng) {
   const double R = q(rng.uniform(105.0, 115.0));
-  S.h = q(rng.uniform(150.0, 250.0));
-  const double wall = q(S.h * rng.uniform(0.05, 0.25));
-  const double c = S.h - wall;
-  S.closing_vertex = true;
-  S.theta = build_angles(720, 0.0, {});
-  const int ncap = static_cast<int>(std::ceil(0.5 * kPi * std::max(R, c)));
-  for (int i = 1; i < ncap; ++i) S.t.push_back(c * (1.0 - std::cos(0.5 * kPi * i / ncap)));
-  for (double z : build_levels(c, S.h, 1.0, 1.0, {})) S.t.push_back(z);
-  S.radius = [R, c](double, double z) {
-    if (z >= c) return R;
-    const double u = 1.0 - z / c;
-    return R * std::sqrt(std::max(0.0, 1.0 - u * u));
-  };
-  S.params.num("radius_mm", R);
-  S.params.num("cap_height_mm", c);
+  const double h = q(rng.uniform(280.0, 300.0));
+  const double c = q(rng.uniform(40.0, 80.0));
+  return capped(R, h, c);
+}
+
+// A fully rounded bowl: the cap is nearly all of the pit, under a short
+// wall (5-25 % of the depth); no flat floor anywhere.
+Shape rounded_bowl(Rng &rng) {
+  const double R = q(rng.uniform(105.0, 115.0));
+  const double h = q(rng.uniform(150.0, 250.0));
+  const double wall = q(h * rng.uniform(0.05, 0.25));
+  Shape S = capped(R, h, h - wall);
   S.params.num("wall_mm", wall);
-  S.params.integer("cap_rings", ncap);
   return S;
 }
 

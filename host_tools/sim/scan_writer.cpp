@@ -62,6 +62,24 @@ class FrameStream {
   uint64_t timestamp_us_ = 0;
 };
 
+// The PLY file, and the frame stream's unless its path is empty.
+bool open_outputs(const std::string &ply_path, const std::string &frames_path, File *ply,
+                  File *frames, std::string *error) {
+  ply->reset(std::fopen(ply_path.c_str(), "wb"));
+  if (!*ply) {
+    *error = "cannot write " + ply_path;
+    return false;
+  }
+  if (!frames_path.empty()) {
+    frames->reset(std::fopen(frames_path.c_str(), "wb"));
+    if (!*frames) {
+      *error = "cannot write " + frames_path;
+      return false;
+    }
+  }
+  return true;
+}
+
 // The plan's PLY header: as write_ply_header, and the unit and passes.
 void write_plan_header(FILE *f, const Pit &pit, const ScanPlan &plan, uint64_t count) {
   std::fprintf(f,
@@ -100,19 +118,8 @@ void world_motion(const PlanPass &ps, const double R[9], const double t[3], doub
 
 bool write_scan_plan(const Pit &pit, const ScanPlan &plan, const std::string &ply_path,
                      const std::string &frames_path, WrittenPlan *out, std::string *error) {
-  File ply(std::fopen(ply_path.c_str(), "wb"));
-  if (!ply) {
-    *error = "cannot write " + ply_path;
-    return false;
-  }
-  File frames;
-  if (!frames_path.empty()) {
-    frames.reset(std::fopen(frames_path.c_str(), "wb"));
-    if (!frames) {
-      *error = "cannot write " + frames_path;
-      return false;
-    }
-  }
+  File ply, frames;
+  if (!open_outputs(ply_path, frames_path, &ply, &frames, error)) return false;
   write_plan_header(ply.get(), pit, plan, 0);
   FrameStream stream(frames.get());
   const uint32_t copies = plan.copies < 1 ? 1 : plan.copies;
@@ -195,19 +202,8 @@ bool write_scan_plan(const Pit &pit, const ScanPlan &plan, const std::string &pl
 
 bool write_scan(const Pit &pit, const ScanParams &p, const std::string &ply_path,
                 const std::string &frames_path, WrittenScan *out, std::string *error) {
-  File ply(std::fopen(ply_path.c_str(), "wb"));
-  if (!ply) {
-    *error = "cannot write " + ply_path;
-    return false;
-  }
-  File frames;
-  if (!frames_path.empty()) {
-    frames.reset(std::fopen(frames_path.c_str(), "wb"));
-    if (!frames) {
-      *error = "cannot write " + frames_path;
-      return false;
-    }
-  }
+  File ply, frames;
+  if (!open_outputs(ply_path, frames_path, &ply, &frames, error)) return false;
   write_ply_header(ply.get(), pit, 0);
   FrameStream stream(frames.get());
   HandheldScan scan(pit, p);
