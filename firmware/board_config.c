@@ -1,7 +1,9 @@
 /* The board's configuration file (board_config.h). */
 #include "board_config.h"
 
+#include "pitvol/config_fields.h"
 #include "pitvol/density.h"
+#include "pitvol/user_input.h"
 #include "pitvol/serial.h"
 
 #include <ctype.h>
@@ -10,25 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-typedef struct core_field {
-  const char *name;
-  size_t offset;
-  int is_float;
-} core_field_t;
-
-#define U32(f) {#f, offsetof(pv_config_t, f), 0}
-#define F32(f) {#f, offsetof(pv_config_t, f), 1}
-/* Every tunable pv_config_t field, named as in docs/method.md. */
-static const core_field_t kCoreFields[] = {
-    U32(max_layers),        U32(points_per_layer),  U32(level_sample_points),
-    U32(warmup_points),     F32(layer_mm),          F32(bottom_band_ratio),
-    F32(plane_tol_ratio),   U32(ransac_iterations), F32(rim_band_ratio),
-    U32(knn_k),             F32(thin_base_mm),      F32(crescent_range_mm),
-    F32(crescent_cross_mm), F32(circle_band_mm),    F32(crescent_relax_mm),
-    U32(mad_window_early),  U32(mad_window_late),   F32(mad_k_early),
-    F32(mad_k_late),        F32(mad_split_mm),
-};
 
 void pv_board_config_default(pv_board_config_t *c) {
   memset(c, 0, sizeof *c);
@@ -68,7 +51,7 @@ int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value
   unsigned long u = 0;
   if (strcmp(key, "usb_vendor") == 0 || strcmp(key, "usb_product") == 0) {
     if (parse_ulong(value, 0xFFFF, &u) != 0) {
-      snprintf(err, errcap, "%s must be a 16-bit number (e.g. 0x1209)", key);
+      snprintf(err, errcap, "%s = %.40s must be a 16-bit number: 0 .. 0xFFFF (e.g. 0x1209)", key, value);
       return -1;
     }
     *(key[4] == 'v' ? &c->usb_vendor : &c->usb_product) = (uint16_t)u;
@@ -76,7 +59,7 @@ int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value
   }
   if (strcmp(key, "display_width") == 0 || strcmp(key, "display_height") == 0) {
     if (parse_ulong(value, 4096, &u) != 0) {
-      snprintf(err, errcap, "%s must be a number of pixels", key);
+      snprintf(err, errcap, "%s = %.40s must be a number of pixels: 320 .. 4096", key, value);
       return -1;
     }
     *(key[8] == 'w' ? &c->display_width : &c->display_height) = (uint16_t)u;
@@ -85,34 +68,34 @@ int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value
   if (strcmp(key, "display") == 0 || strcmp(key, "input") == 0 || strcmp(key, "serial") == 0) {
     char *dst = key[0] == 'd' ? c->display : key[0] == 'i' ? c->input : c->serial;
     if (copy_str(dst, PV_BOARD_PATH_BYTES, value) != 0) {
-      snprintf(err, errcap, "%s is too long", key);
+      snprintf(err, errcap, "%s is longer than %u characters", key, PV_BOARD_PATH_BYTES - 1);
       return -1;
     }
     return 0;
   }
-  if (strcmp(key, "result_log") == 0 || strcmp(key, "device_id") == 0) {
-    const int log = key[0] == 'r';
-    if (copy_str(log ? c->result_log : c->device_id, log ? sizeof c->result_log : sizeof c->device_id,
-                 value) != 0) {
-      snprintf(err, errcap, "%s is too long", key);
+  if (strcmp(key, "result_log") == 0) {
+    if (copy_str(c->result_log, sizeof c->result_log, value) != 0) {
+      snprintf(err, errcap, "result_log is longer than %zu characters", sizeof c->result_log - 1);
       return -1;
     }
     return 0;
+  }
+  if (strcmp(key, "device_id") == 0) {
+    return pv_input_text("device_id", value, c->device_id, sizeof c->device_id, err, errcap);
   }
   if (strcmp(key, "serial_baud") == 0) {
     if (parse_ulong(value, 4000000ul, &u) != 0 || !pv_serial_baud_supported((uint32_t)u)) {
-      snprintf(err, errcap, "serial_baud must be a standard rate from 9600 to 4000000");
+      snprintf(err, errcap, "serial_baud = %.40s must be a standard rate from 9600 to 4000000 (115200)", value);
       return -1;
     }
     c->serial_baud = (uint32_t)u;
     return 0;
   }
   if (strcmp(key, "max_dry_density_kg_m3") == 0) {
-    char *end = NULL;
-    const double d = strtod(value, &end);
-    if (end == value || *end != '\0' || !isfinite(d) ||
-        (d != 0 && (d < PV_DENSITY_MIN_REFERENCE_KG_M3 || d > PV_DENSITY_MAX_REFERENCE_KG_M3))) {
-      snprintf(err, errcap, "max_dry_density_kg_m3 must be 0 (none) or 500 .. 3500 (Proctor maximum dry density, kg/m3)");
+    double d = 0;
+    char why[200];
+    if (strcmp(value, "0") != 0 && pv_input_parse(PV_INPUT_MAX_DRY_KG_M3, value, &d, why, sizeof why) != 0) {
+      snprintf(err, errcap, "max_dry_density_kg_m3 = %.40s: %s; or 0 for none", value, why);
       return -1;
     }
     c->max_dry_density_kg_m3 = d;
@@ -124,52 +107,26 @@ int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value
     } else if (strcmp(value, "l") == 0) {
       c->units = PV_UNITS_LITRE;
     } else {
-      snprintf(err, errcap, "units must be cm3 or l");
+      snprintf(err, errcap, "units = %.40s must be cm3 or l", value);
       return -1;
     }
     return 0;
   }
   if (strcmp(key, "estimate_period_ms") == 0) {
     if (parse_ulong(value, 60000, &u) != 0 || u < 100) {
-      snprintf(err, errcap, "estimate_period_ms must be 100 .. 60000");
+      snprintf(err, errcap, "estimate_period_ms = %.40s is outside 100 .. 60000", value);
       return -1;
     }
     c->estimate_period_ms = (uint32_t)u;
     return 0;
   }
   if (strncmp(key, "core.", 5) == 0) {
-    const char *name = key + 5;
-    if (strcmp(name, "method") == 0) {
-      if (pv_method_from_name(value, &c->core.method) != PV_OK) {
-        snprintf(err, errcap, "unknown core.method '%s' (names as in pitvol measure: paper, polar, ...)", value);
-        return -1;
-      }
-      return 0;
+    char why[200];
+    if (pv_config_field_set(&c->core, key + 5, value, why, sizeof why) != 0) {
+      snprintf(err, errcap, "core.%s", why);
+      return -1;
     }
-    for (size_t i = 0; i < sizeof kCoreFields / sizeof kCoreFields[0]; ++i) {
-      if (strcmp(name, kCoreFields[i].name) != 0) continue;
-      char *base = (char *)&c->core + kCoreFields[i].offset;
-      if (kCoreFields[i].is_float) {
-        char *end = NULL;
-        const double d = strtod(value, &end);
-        if (end == value || *end != '\0' || !isfinite(d)) {
-          snprintf(err, errcap, "%s must be a number", key);
-          return -1;
-        }
-        const float f = (float)d;
-        memcpy(base, &f, sizeof f);
-      } else {
-        if (parse_ulong(value, 0xFFFFFFFFul, &u) != 0) {
-          snprintf(err, errcap, "%s must be a whole number", key);
-          return -1;
-        }
-        const uint32_t v = (uint32_t)u;
-        memcpy(base, &v, sizeof v);
-      }
-      return 0;
-    }
-    snprintf(err, errcap, "unknown core setting '%s' (names as in pv_config_t)", name);
-    return -1;
+    return 0;
   }
   snprintf(err, errcap, "unknown key '%s'", key);
   return -1;

@@ -16,6 +16,7 @@
 #include <pb_encode.h>
 
 #include "pitvol/density.h"
+#include "pitvol/user_input.h"
 
 _Static_assert(PV_DENSITY_WET == pitvol_DensityFlag_DENSITY_WET, "density flags = protocol flags");
 _Static_assert(PV_DENSITY_DRY == pitvol_DensityFlag_DENSITY_DRY, "density flags = protocol flags");
@@ -211,30 +212,24 @@ static void service(pv_board_link_t *bl) {
                             (short)(POLLIN | (pv_link_tx_pending(&bl->link) ? POLLOUT : 0)));
 }
 
-/* Mass and moisture are checked by the density code itself (same ranges). */
+/* Mass and moisture against their plausible ranges (pitvol/user_input.h,
+ * the numbers of pitvol/density.h): the refusal names the range. */
 static void set_density_input(pv_board_link_t *bl, const pv_link_rx_t *rx, int moisture) {
-  pv_density_input_t in;
-  memset(&in, 0, sizeof in);
-  in.volume_cm3 = 1;
-  in.has_mass = 1;
-  in.mass_g = moisture ? 1 : rx->msg.body.set_mass.mass_g;
-  in.has_moisture = moisture;
-  in.moisture_percent = moisture ? rx->msg.body.set_moisture.moisture_percent : 0;
-  pv_density_t d;
-  const pv_density_status_t st = pv_density_compute(&in, &d);
-  if (st != PV_DENSITY_OK) {
-    nack(bl, rx->seq, pitvol_NackCode_NACK_OUT_OF_RANGE, pv_density_status_message(st));
+  const double v = moisture ? rx->msg.body.set_moisture.moisture_percent : rx->msg.body.set_mass.mass_g;
+  char why[sizeof(((pitvol_Nack *)0)->reason)];
+  if (pv_input_check(moisture ? PV_INPUT_MOISTURE_PERCENT : PV_INPUT_MASS_G, v, why, sizeof why) != 0) {
+    nack(bl, rx->seq, pitvol_NackCode_NACK_OUT_OF_RANGE, why);
     return;
   }
   pv_board_model_t *m = &bl->app->model;
   if (moisture) {
     m->moisture_set = 1;
-    m->moisture_percent = in.moisture_percent;
-    printf("pitvol-board: link: moisture %.17g %%\n", in.moisture_percent);
+    m->moisture_percent = v;
+    printf("pitvol-board: link: moisture %.17g %%\n", v);
   } else {
     m->mass_set = 1;
-    m->mass_g = in.mass_g;
-    printf("pitvol-board: link: mass %.17g g\n", in.mass_g);
+    m->mass_g = v;
+    printf("pitvol-board: link: mass %.17g g\n", v);
   }
   ack(bl, rx->seq, 0);
 }

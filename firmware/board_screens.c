@@ -6,6 +6,8 @@
  */
 #include "board_screens.h"
 
+#include "pitvol/advice.h"
+
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -74,108 +76,6 @@ static void grouped(uint64_t v, char *out, size_t cap) {
   out[o] = '\0';
 }
 
-int pv_board_coverage_hint(const pv_result_t *r, pv_status_t st, char *line1, size_t cap1,
-                           char *line2, size_t cap2) {
-  line1[0] = line2[0] = '\0';
-  double lo = 0, hi = 0;
-  if (st == PV_ERR_WALL_GAP && r->gap_to_mm > r->gap_from_mm) {
-    lo = r->gap_from_mm;
-    hi = r->gap_to_mm;
-  } else if (r->coverage_bands > 0 && r->depth_mm > 0) {
-    const uint32_t n = r->coverage_bands;
-    uint32_t best_from = 0, best_len = 0;
-    for (uint32_t b = 0; b < n;) {
-      if (r->coverage[b] >= PV_BOARD_SEEN_SHARE) {
-        ++b;
-        continue;
-      }
-      uint32_t e = b;
-      while (e < n && r->coverage[e] < PV_BOARD_SEEN_SHARE) ++e;
-      if (e - b > best_len) {
-        best_from = b;
-        best_len = e - b;
-      }
-      b = e;
-    }
-    if (best_len == 0) return 0;
-    lo = r->depth_mm * best_from / n;
-    hi = r->depth_mm * (best_from + best_len) / n;
-  } else {
-    return 0;
-  }
-  snprintf(line1, cap1, "wall %.0f-%.0f mm not seen", lo, hi);
-  /* The lower wall hides under the rim: look down into the pit. The upper
-   * wall is missed when the scanner stays low. */
-  const int lower = r->depth_mm <= 0 || (lo + hi) / 2 < r->depth_mm / 2;
-  snprintf(line2, cap2, "%s", lower ? "tilt into the pit" : "aim at the upper wall");
-  return 1;
-}
-
-void pv_board_refusal_text(const pv_result_t *r, pv_status_t st, char *why, size_t cap_why,
-                           char *todo, size_t cap_todo) {
-  switch (st) {
-    case PV_ERR_WALL_GAP:
-      snprintf(why, cap_why, "wall %.0f-%.0f mm not seen", r->gap_from_mm, r->gap_to_mm);
-      snprintf(todo, cap_todo, "rescan: tilt into that band");
-      return;
-    case PV_ERR_TOO_FEW_POINTS:
-      snprintf(why, cap_why, "too few points");
-      snprintf(todo, cap_todo, "rescan the whole pit");
-      return;
-    case PV_ERR_NO_BOTTOM_PLANE:
-      snprintf(why, cap_why, "floor not found");
-      snprintf(todo, cap_todo, "rescan: include the floor");
-      return;
-    case PV_ERR_NO_RIM:
-      snprintf(why, cap_why, "rim not found");
-      snprintf(todo, cap_todo, "rescan: the rim all round");
-      return;
-    case PV_ERR_TOO_FEW_LAYERS:
-      snprintf(why, cap_why, "too little wall seen");
-      snprintf(todo, cap_todo, "rescan the wall all round");
-      return;
-    case PV_ERR_DEPTH_EXCEEDS_CAPACITY:
-      snprintf(why, cap_why, "pit deeper than the range");
-      snprintf(todo, cap_todo, "raise core.max_layers");
-      return;
-    case PV_ERR_NOT_A_PIT:
-      /* The check that refused, with its figure, in a screen line. */
-      switch (r->failed_check) {
-        case PV_PIT_CHECK_POINTS_INSIDE:
-          snprintf(why, cap_why, "%.0f%% of points in the void", 100 * r->check_value);
-          break;
-        case PV_PIT_CHECK_NARROW_MOUTH:
-          snprintf(why, cap_why, "mouth %.0f%% of widest part", 100 * r->check_value);
-          break;
-        case PV_PIT_CHECK_TOO_WIDE:
-          snprintf(why, cap_why, "wider than %.0f mm", 2 * r->check_limit);
-          break;
-        case PV_PIT_CHECK_OPENING_TILT:
-          snprintf(why, cap_why, "opening faces away");
-          break;
-        case PV_PIT_CHECK_SECTIONS:
-          snprintf(why, cap_why, "layer outlines inconsistent");
-          break;
-        case PV_PIT_CHECK_DOUBLED_WALL:
-        case PV_PIT_CHECK_DOUBLED_FLOOR:
-          /* The scan holds the pit twice: the scanner lost its tracking. */
-          snprintf(why, cap_why, "%s seen twice",
-                   r->failed_check == PV_PIT_CHECK_DOUBLED_WALL ? "wall" : "floor");
-          snprintf(todo, cap_todo, "rescan in one steady pass");
-          return;
-        default:
-          snprintf(why, cap_why, "does not look like a pit");
-          break;
-      }
-      snprintf(todo, cap_todo, "rescan the pit alone");
-      return;
-    default:
-      snprintf(why, cap_why, "%s", pv_status_name(st));
-      snprintf(todo, cap_todo, "rescan; report if it recurs");
-      return;
-  }
-}
-
 /* Coverage column: band 0 (floor) at the bottom, the rim at the top. */
 static void coverage_bars(pv_canvas_t *c, const pv_board_fonts_t *f, const pv_board_model_t *m,
                           int x, int y_top, int y_bottom, int w) {
@@ -192,8 +92,8 @@ static void coverage_bars(pv_canvas_t *c, const pv_board_fonts_t *f, const pv_bo
     if (!have) continue;
     float share = r->coverage[b];
     share = share < 0 ? 0 : share > 1 ? 1 : share;
-    const pv_color_t col = share >= 0.8f ? PV_COLOR_GREEN
-                           : share >= PV_BOARD_SEEN_SHARE ? PV_COLOR_AMBER
+    const pv_color_t col = share >= PV_ADVICE_SEEN_SHARE ? PV_COLOR_GREEN
+                           : share >= PV_ADVICE_UNSEEN_SHARE ? PV_COLOR_AMBER
                                                           : PV_COLOR_RED;
     const int len = (int)lrintf(share * (float)w);
     pv_canvas_fill(c, x, y, len > 0 ? len : 1, band_h - 1, col);
@@ -247,10 +147,11 @@ static void draw_scanning(pv_canvas_t *c, const pv_board_model_t *m, const pv_bo
   const int hint_y = c->height - LINE_H - 8 - 2 * LINE_H;
   if (m->stopping) {
     line(c, &f->body, hint_y + LINE_H, PV_COLOR_BLACK, "stopping...");
-  } else if (m->live_valid && pv_board_coverage_hint(&m->live, m->live_status, h1, sizeof h1, h2, sizeof h2)) {
+  } else if (m->live_valid && pv_advice_live(&m->live, m->live_status, h1, sizeof h1, h2, sizeof h2)) {
     line(c, &f->body, hint_y, PV_COLOR_RED, "%s", h1);
     line(c, &f->body, hint_y + LINE_H, PV_COLOR_RED, "%s", h2);
-  } else if (m->live_valid && m->live_status == PV_OK) {
+  } else if (m->live_valid && m->live_status == PV_OK && m->live.coverage_bands == PV_COVERAGE_BANDS) {
+    /* Only with every band green (pv_advice_live found none thin). */
     line(c, &f->body, hint_y + LINE_H, PV_COLOR_GREEN, "wall seen: STOP");
   } else {
     line(c, &f->body, hint_y + LINE_H, PV_COLOR_BLACK, "%s", live_hint(m->live_status));
@@ -291,7 +192,7 @@ static void draw_result(pv_canvas_t *c, const pv_board_model_t *m, const pv_boar
                         pv_board_units_t units) {
   const pv_result_t *r = &m->result;
   /* Amber title only for flags that change how far to trust the number. */
-  const int warn = (r->warnings & (PV_WARN_BRIDGED | PV_WARN_LAYERS_REJECTED | PV_WARN_SPARSE_LAYERS |
+  const int warn = (pv_warnings_attention(r->warnings, r->unseen_share) & (PV_WARN_BRIDGED | PV_WARN_LAYERS_REJECTED | PV_WARN_SPARSE_LAYERS |
                                    PV_WARN_LARGE_TILT)) != 0 ||
                    m->board_warnings != 0;
   title(c, f, "RESULT", warn ? PV_COLOR_AMBER : PV_COLOR_GREEN, PV_COLOR_BLACK, usb_word(m));
@@ -325,25 +226,32 @@ static void draw_result(pv_canvas_t *c, const pv_board_model_t *m, const pv_boar
   }
   y = line(c, &f->body, y, PV_COLOR_BLACK, "depth %.1f mm  tilt %.0f" DEG, r->depth_mm, r->tilt_deg);
   y = density_lines(c, f, m, y);
-  /* Quality flags: the ones that change how far to trust the number first. */
+  /* Quality flags from the core's table (pitvol.h): the ones that change
+   * how far to trust the number first; then the notes, in grey. */
+  const uint32_t attention = pv_warnings_attention(r->warnings, r->unseen_share);
   int shown = 0;
   const int room = (c->height - LINE_H - 4 - y) / LINE_H;
-  struct { int on; pv_color_t ink; const char *text; } flags[] = {
-      {(m->board_warnings & PV_BOARD_WARN_ENDED_UNPLUGGED) != 0, PV_COLOR_RED, "! ended while unplugged"},
-      {(r->warnings & PV_WARN_BRIDGED) != 0, PV_COLOR_RED, "! unseen wall bridged"},
-      {(r->warnings & PV_WARN_LAYERS_REJECTED) != 0, PV_COLOR_AMBER, "! many layers rejected"},
-      {(r->warnings & PV_WARN_SPARSE_LAYERS) != 0, PV_COLOR_AMBER, "! sparse layers"},
-      {(r->warnings & PV_WARN_LARGE_TILT) != 0, PV_COLOR_AMBER, "! large tilt"},
-      {(r->warnings & PV_WARN_INVALID_POINTS) != 0, PV_COLOR_BLACK, "bad points skipped"},
-      {(r->warnings & PV_WARN_OUT_OF_RANGE) != 0, PV_COLOR_BLACK, "points out of range"},
-      {(r->warnings & PV_WARN_POINTS_THINNED) != 0, PV_COLOR_BLACK, "dense layers thinned"},
+  if ((m->board_warnings & PV_BOARD_WARN_ENDED_UNPLUGGED) && shown++ < room) {
+    y = line(c, &f->body, y, PV_COLOR_RED, "! ended while unplugged");
+  }
+  static const struct { uint32_t bit; pv_color_t ink; } order[] = {
+      {PV_WARN_BRIDGED, PV_COLOR_RED},       {PV_WARN_LAYERS_REJECTED, PV_COLOR_AMBER},
+      {PV_WARN_SPARSE_LAYERS, PV_COLOR_AMBER}, {PV_WARN_LARGE_TILT, PV_COLOR_AMBER},
+      {PV_WARN_INVALID_POINTS, PV_COLOR_BLACK}, {PV_WARN_OUT_OF_RANGE, PV_COLOR_BLACK},
+      {PV_WARN_POINTS_THINNED, PV_COLOR_BLACK},
   };
-  for (size_t i = 0; i < sizeof flags / sizeof flags[0]; ++i) {
-    if (!flags[i].on) continue;
-    if (shown < room) y = line(c, &f->body, y, flags[i].ink, "%s", flags[i].text);
+  for (size_t i = 0; i < sizeof order / sizeof order[0]; ++i) {
+    if (!(attention & order[i].bit)) continue;
+    if (shown++ < room) y = line(c, &f->body, y, order[i].ink, "! %s", pv_warning_short(order[i].bit));
+  }
+  if (shown == 0 && room > 0) {
+    y = line(c, &f->body, y, PV_COLOR_GREEN, "no warnings");
     ++shown;
   }
-  if (shown == 0 && room > 0) line(c, &f->body, y, PV_COLOR_GREEN, "no quality flags");
+  for (size_t i = 0; i < sizeof order / sizeof order[0]; ++i) {
+    if (!(r->warnings & order[i].bit) || (attention & order[i].bit)) continue;
+    if (shown++ < room) y = line(c, &f->body, y, PV_COLOR_GREY, "note: %s", pv_warning_short(order[i].bit));
+  }
   pv_canvas_note(c, "result volume_cm3=%.17g interval_cm3=%.17g warnings=0x%x board_warnings=0x%x",
                  r->volume_cm3, r->interval_cm3, r->warnings, m->board_warnings);
   legend(c, f, "ENTER: done   START: new scan");
@@ -354,10 +262,10 @@ static void draw_refused(pv_canvas_t *c, const pv_board_model_t *m, const pv_boa
   int y = TITLE_H + 8;
   pv_canvas_text(c, &f->big, 1, MARGIN, y, PV_COLOR_BLACK, "no volume");
   y += 40;
-  char why[64], todo[64];
-  pv_board_refusal_text(&m->result, m->result_status, why, sizeof why, todo, sizeof todo);
-  y = line(c, &f->body, y, PV_COLOR_RED, "%s", why);
-  y = line(c, &f->body, y + 4, PV_COLOR_BLACK, "%s", todo);
+  pv_advice_t a;
+  pv_advice_refusal(&m->result, m->result_status, &a);
+  y = line(c, &f->body, y, PV_COLOR_RED, "%s", a.why);
+  y = line(c, &f->body, y + 4, PV_COLOR_BLACK, "%s", a.todo);
   if (m->board_warnings & PV_BOARD_WARN_ENDED_UNPLUGGED) {
     y = line(c, &f->body, y + 4, PV_COLOR_BLACK, "scan ended while unplugged");
   }

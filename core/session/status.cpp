@@ -118,3 +118,73 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
     default: return "unknown check";
   }
 }
+
+namespace {
+
+struct WarningText {
+  uint32_t bit;
+  const char *name, *message, *short_text;
+};
+
+// The one table of warning texts (pitvol.h): pitvol measure, the report,
+// the board's screens and pitvol-monitor all read it.
+constexpr WarningText kWarnings[] = {
+    {PV_WARN_POINTS_THINNED, "PV_WARN_POINTS_THINNED",
+     "dense parts of the scan were thinned to fit the fixed memory (by design; the accuracy "
+     "figures include it)",
+     "dense bins thinned"},
+    {PV_WARN_INVALID_POINTS, "PV_WARN_INVALID_POINTS",
+     "points with NaN, infinite or absurd coordinates were skipped; if there are many, check "
+     "the scanner's export",
+     "bad points skipped"},
+    {PV_WARN_OUT_OF_RANGE, "PV_WARN_OUT_OF_RANGE",
+     "more than 1 % of the points lie outside the depth range and were not used; if the pit is "
+     "deeper than max_layers x layer_mm, raise max_layers",
+     "points out of range"},
+    {PV_WARN_LAYERS_REJECTED, "PV_WARN_LAYERS_REJECTED",
+     "more than 5 % of the layers were rejected as outliers; find the band in the report's area "
+     "plot and rescan it if the wall there was not seen",
+     "many layers rejected"},
+    {PV_WARN_LARGE_TILT, "PV_WARN_LARGE_TILT",
+     "the pit's floor is tilted more than 30 deg from the scanner's view; check in the report's "
+     "side view that the levelled floor is the pit's floor",
+     "large tilt"},
+    {PV_WARN_SPARSE_LAYERS, "PV_WARN_SPARSE_LAYERS",
+     "more than 10 % of the layers had too few wall points; scan the wall closer and from every "
+     "side",
+     "sparse layers"},
+    {PV_WARN_BRIDGED, "PV_WARN_BRIDGED",
+     "part of the wall was not seen and was bridged from the wall around it (unseen_share of "
+     "the volume, inside the interval); to narrow the interval, rescan that band of the wall",
+     "unseen wall bridged"},
+};
+
+const WarningText *warning_row(uint32_t bit) {
+  for (const WarningText &w : kWarnings) {
+    if (w.bit == bit) return &w;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+extern "C" const char *pv_warning_name(uint32_t bit) {
+  const WarningText *w = warning_row(bit);
+  return w != nullptr ? w->name : nullptr;
+}
+
+extern "C" const char *pv_warning_message(uint32_t bit) {
+  const WarningText *w = warning_row(bit);
+  return w != nullptr ? w->message : nullptr;
+}
+
+extern "C" const char *pv_warning_short(uint32_t bit) {
+  const WarningText *w = warning_row(bit);
+  return w != nullptr ? w->short_text : nullptr;
+}
+
+extern "C" uint32_t pv_warnings_attention(uint32_t warnings, double unseen_share) {
+  uint32_t a = warnings & PV_WARN_ALL & ~PV_WARN_POINTS_THINNED;
+  if (!(unseen_share >= PV_WARN_BRIDGED_SHARE)) a &= ~PV_WARN_BRIDGED;
+  return a;
+}

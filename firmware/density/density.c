@@ -17,6 +17,7 @@ const char *pv_density_status_name(pv_density_status_t status) {
     case PV_DENSITY_ERR_MASS: return "PV_DENSITY_ERR_MASS";
     case PV_DENSITY_ERR_MOISTURE: return "PV_DENSITY_ERR_MOISTURE";
     case PV_DENSITY_ERR_REFERENCE: return "PV_DENSITY_ERR_REFERENCE";
+    case PV_DENSITY_ERR_IMPLAUSIBLE: return "PV_DENSITY_ERR_IMPLAUSIBLE";
   }
   return "PV_DENSITY_ERR_UNKNOWN";
 }
@@ -28,13 +29,16 @@ const char *pv_density_status_message(pv_density_status_t status) {
     case PV_DENSITY_ERR_VOLUME:
       return "there is no valid volume to divide by; measure the pit first";
     case PV_DENSITY_ERR_MASS:
-      return "the soil mass must be more than 0 g; weigh the excavated soil and enter "
+      return "the soil mass must be 50 to 100000 g; weigh the excavated soil and enter "
              "its mass in grams";
     case PV_DENSITY_ERR_MOISTURE:
-      return "the moisture content must be 0 to 500 % of the dry mass; enter it in %";
+      return "the moisture content must be 0 to 100 % of the dry mass; enter it in %";
     case PV_DENSITY_ERR_REFERENCE:
-      return "the reference maximum dry density must be 500 to 3500 kg/m3; check the "
+      return "the reference maximum dry density must be 1000 to 2800 kg/m3; check the "
              "configuration (a value in g/cm3 must be multiplied by 1000)";
+    case PV_DENSITY_ERR_IMPLAUSIBLE:
+      return "the mass over the measured volume is no soil's density (800 to 3000 kg/m3); "
+             "check that the mass is in grams and belongs to this pit";
   }
   return "unknown density status";
 }
@@ -48,7 +52,9 @@ pv_density_status_t pv_density_compute(const pv_density_input_t *in, pv_density_
   const double v = in->volume_cm3, dv = in->interval_cm3;
   if (!isfinite(v) || !(v > 0.0) || !isfinite(dv) || !(dv >= 0.0)) return PV_DENSITY_ERR_VOLUME;
   if (!in->has_mass) return PV_DENSITY_OK;
-  if (!isfinite(in->mass_g) || !(in->mass_g > 0.0)) return PV_DENSITY_ERR_MASS;
+  if (!isfinite(in->mass_g) || !(in->mass_g >= PV_DENSITY_MIN_MASS_G) ||
+      in->mass_g > PV_DENSITY_MAX_MASS_G)
+    return PV_DENSITY_ERR_MASS;
   if (in->has_moisture &&
       (!isfinite(in->moisture_percent) || !(in->moisture_percent >= 0.0) ||
        in->moisture_percent > PV_DENSITY_MAX_MOISTURE_PERCENT))
@@ -62,6 +68,8 @@ pv_density_status_t pv_density_compute(const pv_density_input_t *in, pv_density_
   memset(&d, 0, sizeof d);
   const int bounded = dv < v;
   const double m = in->mass_g;
+  const double wet = m / v * KG_M3_PER_G_CM3;
+  if (!(wet >= PV_DENSITY_MIN_WET_KG_M3) || wet > PV_DENSITY_MAX_WET_KG_M3) return PV_DENSITY_ERR_IMPLAUSIBLE;
   d.flags = PV_DENSITY_WET | (bounded ? 0u : PV_DENSITY_UNBOUNDED);
   d.wet_kg_m3 = m / v * KG_M3_PER_G_CM3;
   d.wet_low_kg_m3 = m / (v + dv) * KG_M3_PER_G_CM3;
@@ -81,4 +89,29 @@ pv_density_status_t pv_density_compute(const pv_density_input_t *in, pv_density_
   }
   *out = d;
   return PV_DENSITY_OK;
+}
+
+pv_verdict_t pv_density_verdict(const pv_density_t *d, double volume_cm3, double required_percent,
+                                double *decides_within_cm3) {
+  if (decides_within_cm3 != NULL) *decides_within_cm3 = 0.0;
+  if (d == NULL || !(d->flags & PV_DENSITY_COMPACTION) || !(required_percent > 0.0)) return PV_VERDICT_NONE;
+  const int open = (d->flags & PV_DENSITY_UNBOUNDED) != 0;
+  if (d->compaction_low_percent >= required_percent) return PV_VERDICT_PASS;
+  if (!open && d->compaction_high_percent < required_percent) return PV_VERDICT_FAIL;
+  /* The compaction is inversely proportional to the volume: it equals the
+   * requirement at V* = V * RC / required. */
+  if (decides_within_cm3 != NULL && isfinite(volume_cm3)) {
+    *decides_within_cm3 = fabs(volume_cm3 - volume_cm3 * d->compaction_percent / required_percent);
+  }
+  return PV_VERDICT_UNDECIDED;
+}
+
+const char *pv_verdict_name(pv_verdict_t v) {
+  switch (v) {
+    case PV_VERDICT_PASS: return "PASS";
+    case PV_VERDICT_FAIL: return "FAIL";
+    case PV_VERDICT_UNDECIDED: return "UNDECIDED";
+    case PV_VERDICT_NONE: break;
+  }
+  return "";
 }

@@ -29,6 +29,7 @@
 
 #include "host_link.h"
 #include "pitvol/json_writer.h"
+#include "pitvol/user_input.h"
 #include "report.h"
 
 namespace {
@@ -72,15 +73,15 @@ struct Options {
   int retry_ms = 500, tries = 10;
 };
 
+// One line: what was wrong and where the commands are listed.
 int usage(const std::string &msg) {
-  std::fprintf(stderr, "pitvol-monitor: %s\n%s", msg.c_str(), kUsage);
+  std::fprintf(stderr, "pitvol-monitor: %s (pitvol-monitor --help lists the commands)\n", msg.c_str());
   return kExitUsage;
 }
 
 bool parse_number(const char *s, double *out) {
-  char *end = nullptr;
-  *out = std::strtod(s, &end);
-  return end != s && *end == 0;
+  char why[160];
+  return pv_parse_decimal(s, out, why, sizeof why) == 0;
 }
 
 // Prints each message the board sends, once per result id.
@@ -128,7 +129,7 @@ int no_answer(HostLink::Reply r, const std::string &err) {
 }
 
 int refused(const pv_link_rx_t &reply) {
-  std::fprintf(stderr, "pitvol-monitor: the board refused: %s\n", reply.msg.body.nack.reason);
+  std::fprintf(stderr, "pitvol-monitor: the board refused: %s\n", pv::monitor::printable(reply.msg.body.nack.reason).c_str());
   return kExitRefused;
 }
 
@@ -206,8 +207,12 @@ bool make_command(const std::string &name, const std::string &arg, pitvol_Messag
   } else if (name == "stop") {
     cmd->which_body = pitvol_Message_stop_scan_tag;
   } else if (name == "set-mass" || name == "set-moisture") {
-    if (arg.empty() || !parse_number(arg.c_str(), &v)) {
-      *err = name + " needs a number (" + (name == "set-mass" ? "grams" : "percent of dry mass") + ")";
+    // The syntax here (0x10, 1,5 or inf never reach the board as another
+    // number); the range is the board's to check: its refusal names it.
+    char why[160];
+    if (arg.empty() || pv_parse_decimal(arg.c_str(), &v, why, sizeof why) != 0) {
+      *err = name + " needs a number (" + (name == "set-mass" ? "grams" : "percent of dry mass") + ")" +
+             (arg.empty() ? "" : std::string(": ") + why);
       return false;
     }
     if (name == "set-mass") {
@@ -248,12 +253,14 @@ int watch(HostLink &link, const Options &opt) {
     const uint32_t seq = m.which_body == pitvol_Message_ack_tag ? m.body.ack.command_seq : m.body.nack.command_seq;
     if (seq != commands.front().seq) return;
     const std::string &c = commands.front().text;
+    pv::tools::JsonObject o;
+    o.str("type", m.which_body == pitvol_Message_ack_tag ? "ack" : "nack").str("command", c);
     if (m.which_body == pitvol_Message_ack_tag)
-      Printer::line(opt.json ? "{\"type\": \"ack\", \"command\": \"" + c + "\"}" : "ok       " + c);
+      Printer::line(opt.json ? o.text() : "ok       " + pv::monitor::printable(c));
     else
-      Printer::line(opt.json ? "{\"type\": \"nack\", \"command\": \"" + c + "\", \"reason\": \"" +
-                                   pv::tools::json_escape(m.body.nack.reason) + "\"}"
-                             : "refused  " + c + ": " + m.body.nack.reason);
+      Printer::line(opt.json ? o.str("reason", m.body.nack.reason).text()
+                             : "refused  " + pv::monitor::printable(c) + ": " +
+                                   pv::monitor::printable(m.body.nack.reason));
     commands.pop_front();
   };
   const auto handle = [&](const pv_link_rx_t &rx) {

@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <vector>
 
+#include "pitvol/advice.h"
 #include "pitvol/pitvol.h"
 #include "pitvol/json_writer.h"
 #include "pitvol/result_report.h"
@@ -56,22 +58,76 @@ bool refused_by_check(const pitvol_Result &r) {
 }
 bool wall_gap(const pitvol_Result &r) { return r.status == PV_ERR_WALL_GAP; }
 
+// The fields of the core's result the board sent, for the shared rules
+// (warnings, advice): no coverage or depth travels with a refusal.
+pv_result_t core_result(const pitvol_Result &r) {
+  pv_result_t pr{};
+  pr.status = pv_status_t(r.status);
+  pr.warnings = r.warnings;
+  pr.unseen_share = r.unseen_share;
+  pr.points_in = r.points_in;
+  pr.points_used = r.points_used;
+  pr.failed_check = r.failed_check;
+  pr.check_value = r.check_value;
+  pr.check_limit = r.check_limit;
+  pr.gap_from_mm = r.gap_from_mm;
+  pr.gap_to_mm = r.gap_to_mm;
+  return pr;
+}
+
 // Why there is no volume, in the words pitvol measure uses (its
-// check_figures(), on the fields the board sent).
+// check_figures(), on the fields the board sent), and what to do.
 std::string refusal_text(const pitvol_Result &r) {
+  std::string t;
   if (refused_by_check(r)) {
-    pv_result_t pr{};
-    pr.failed_check = r.failed_check;
-    pr.check_value = r.check_value;
-    pr.check_limit = r.check_limit;
-    return std::string(" (") + pv_pit_check_name(r.failed_check) + ": " +
-           pv::tools::check_figures(pr) + ")";
+    t = std::string(" (") + pv_pit_check_name(r.failed_check) + ": " +
+        pv::tools::check_figures(core_result(r)) + ")";
+  } else if (wall_gap(r)) {
+    t = " (no usable outline from " + fmt("%.1f", r.gap_from_mm) + " to " +
+        fmt("%.1f", r.gap_to_mm) + " mm above the bottom)";
   }
-  if (wall_gap(r)) {
-    return " (no usable outline from " + fmt("%.1f", r.gap_from_mm) + " to " +
-           fmt("%.1f", r.gap_to_mm) + " mm above the bottom)";
+  const pv_result_t pr = core_result(r);
+  pv_advice_t a;
+  pv_advice_refusal(&pr, pr.status, &a);
+  return t + "\n         advice: " + a.sentence;
+}
+
+// "warnings: none" or the short forms of the bits that need attention,
+// then a line per warning with its sentence and one line of notes
+// (pitvol.h's table, as pitvol measure and the board print them).
+std::string warnings_text(const pitvol_Result &r) {
+  const uint32_t attention = pv_warnings_attention(r.warnings, r.unseen_share);
+  std::string head, lines, notes;
+  for (uint32_t bit = 1; bit <= PV_WARN_ALL; bit <<= 1) {
+    if (!(r.warnings & bit) || pv_warning_short(bit) == nullptr) continue;
+    if (attention & bit) {
+      head += std::string(head.empty() ? "" : ", ") + pv_warning_short(bit);
+      lines += std::string("\n         warning: ") + pv_warning_message(bit);
+    } else {
+      notes += std::string(notes.empty() ? "" : ", ") + pv_warning_short(bit);
+    }
   }
-  return "";
+  if (head.empty()) head = "none";
+  return ", warnings: " + head + lines + (notes.empty() ? "" : "\n         notes: " + notes);
+}
+
+void warnings_json(JsonObject &o, const pitvol_Result &r) {
+  const uint32_t attention = pv_warnings_attention(r.warnings, r.unseen_share);
+  std::vector<std::string> warnings, notes;
+  for (uint32_t bit = 1; bit <= PV_WARN_ALL; bit <<= 1) {
+    if (!(r.warnings & bit) || pv_warning_message(bit) == nullptr) continue;
+    (attention & bit ? warnings : notes).push_back(pv_warning_message(bit));
+  }
+  o.strings("warnings", warnings).strings("notes", notes).integer("warning_bits", r.warnings);
+}
+
+// Names of every set bit, space-separated, for a CSV cell.
+std::string warning_names(uint32_t bits) {
+  std::string t;
+  for (uint32_t bit = 1; bit <= PV_WARN_ALL; bit <<= 1) {
+    if ((bits & bit) && pv_warning_name(bit) != nullptr) t += std::string(t.empty() ? "" : " ") + pv_warning_name(bit);
+  }
+  return t;
 }
 
 void density_json(JsonObject &o, const pitvol_Result &r) {
@@ -97,7 +153,51 @@ void density_json(JsonObject &o, const pitvol_Result &r) {
   }
 }
 
+// A CSV cell: printable, and quoted when it holds a comma or a quote.
+std::string csv_cell(const std::string &s) {
+  const std::string p = printable(s);
+  if (p.find_first_of(",\"") == std::string::npos) return p;
+  std::string q = "\"";
+  for (char c : p) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
 }  // namespace
+
+std::string printable(const std::string &s) {
+  std::string o;
+  char b[8];
+  for (size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      o += char(c);
+      ++i;
+      continue;
+    }
+    // A whole UTF-8 sequence (2 to 4 bytes, no overlong form) of a
+    // printable character; C1 controls (U+0080..U+009F) are escaped.
+    size_t n = c >= 0xc2 && c <= 0xdf ? 2 : c >= 0xe0 && c <= 0xef ? 3 : c >= 0xf0 && c <= 0xf4 ? 4 : 0;
+    if (n > 0 && i + n <= s.size()) {
+      for (size_t k = 1; k < n; ++k)
+        if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80) n = 0;
+    } else {
+      n = 0;
+    }
+    if (n == 2 && c == 0xc2 && static_cast<unsigned char>(s[i + 1]) < 0xa0) {
+      std::snprintf(b, sizeof b, "\\u%04x", static_cast<unsigned char>(s[i + 1]));
+      o += b;
+      i += 2;
+    } else if (n > 0) {
+      o.append(s, i, n);
+      i += n;
+    } else {
+      std::snprintf(b, sizeof b, "\\x%02x", c);
+      o += b;
+      ++i;
+    }
+  }
+  return o;
+}
 
 const char *state_name(pitvol_DeviceState s) {
   switch (s) {
@@ -111,11 +211,9 @@ const char *state_name(pitvol_DeviceState s) {
 }
 
 std::string hello_text(const pitvol_Hello &h) {
-  char b[256];
-  std::snprintf(b, sizeof b, "hello    pitvol %s, device %s, protocol %u, results %u..%u",
-                h.firmware_version, h.device_id, h.protocol_version, h.first_result_id,
-                h.last_result_id);
-  return b;
+  return "hello    pitvol " + printable(h.firmware_version) + ", device " + printable(h.device_id) +
+         ", protocol " + std::to_string(h.protocol_version) + ", results " +
+         std::to_string(h.first_result_id) + ".." + std::to_string(h.last_result_id);
 }
 
 std::string hello_json(const pitvol_Hello &h) {
@@ -155,12 +253,10 @@ std::string status_json(const pitvol_Status &s) {
 std::string result_text(const pitvol_Result &r) {
   std::string t = "result   #" + std::to_string(r.id) + " " + utc(r.time_unix_s) + " ";
   if (r.status != 0) return t + "no measurement: " + status_name(r.status) + refusal_text(r);
-  t += r.method;
+  t += printable(r.method);
   t += ", volume " + fmt("%.1f", r.volume_cm3) + " +/- " + fmt("%.1f", r.interval_cm3) +
        " cm3, depth " + fmt("%.1f", r.depth_mm) + " mm";
-  char w[32];
-  std::snprintf(w, sizeof w, ", warnings 0x%02x", r.warnings);
-  t += w;
+  t += warnings_text(r);
   const pitvol_Density &d = r.density;
   const bool open = d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED;
   auto range = [&](double v, double lo, double hi, const char *unit) {
@@ -191,7 +287,8 @@ std::string result_json(const pitvol_Result &r) {
   } else {
     o.null("volume_cm3").null("interval_cm3").null("depth_mm");
   }
-  o.integer("warnings", r.warnings).num("unseen_share", r.unseen_share)
+  warnings_json(o, r);
+  o.num("unseen_share", r.unseen_share)
       .integer("points_in", r.points_in).integer("points_used", r.points_used);
   // As pitvol measure --json: the check that refused a PV_ERR_NOT_A_PIT with
   // its figures, the band of a PV_ERR_WALL_GAP.
@@ -201,12 +298,18 @@ std::string result_json(const pitvol_Result &r) {
         .num("check_limit", r.check_limit);
   }
   if (wall_gap(r)) o.num("gap_from_mm", r.gap_from_mm).num("gap_to_mm", r.gap_to_mm);
+  if (r.status != 0) {
+    const pv_result_t pr = core_result(r);
+    pv_advice_t a;
+    pv_advice_refusal(&pr, pr.status, &a);
+    o.str("advice", a.sentence);
+  }
   density_json(o, r);
   return o.text();
 }
 
 std::string error_text(const pitvol_Error &e) {
-  return std::string("error    ") + e.name + ": " + e.message;
+  return "error    " + printable(e.name) + ": " + printable(e.message);
 }
 
 std::string error_json(const pitvol_Error &e) {
@@ -220,7 +323,7 @@ std::string result_csv_header() {
          "points_in,points_used,density_flags,mass_g,moisture_percent,wet_kg_m3,wet_low_kg_m3,"
          "wet_high_kg_m3,dry_kg_m3,dry_low_kg_m3,dry_high_kg_m3,reference_max_dry_kg_m3,"
          "compaction_percent,compaction_low_percent,compaction_high_percent,failed_check,"
-         "check_value,check_limit,gap_from_mm,gap_to_mm";
+         "check_value,check_limit,gap_from_mm,gap_to_mm,warning_names";
 }
 
 std::string result_csv_row(const pitvol_Result &r) {
@@ -232,7 +335,7 @@ std::string result_csv_row(const pitvol_Result &r) {
   const bool open = d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED;
   auto num = [](bool valid, double v) { return valid ? g17(v) : std::string(); };
   std::string row = std::to_string(r.id) + "," + std::to_string(r.time_unix_s) + "," +
-                    status_name(r.status) + "," + r.method + "," + num(ok, r.volume_cm3) + "," +
+                    status_name(r.status) + "," + csv_cell(r.method) + "," + num(ok, r.volume_cm3) + "," +
                     num(ok, r.interval_cm3) + "," + num(ok, r.depth_mm) + "," +
                     std::to_string(r.warnings) + "," + g17(r.unseen_share) + "," +
                     std::to_string(r.points_in) + "," + std::to_string(r.points_used) + "," +
@@ -246,7 +349,7 @@ std::string result_csv_row(const pitvol_Result &r) {
   const bool by_check = refused_by_check(r), gap = wall_gap(r);
   row += std::string(",") + (by_check ? pv_pit_check_name(r.failed_check) : "") + "," +
          num(by_check, r.check_value) + "," + num(by_check, r.check_limit) + "," +
-         num(gap, r.gap_from_mm) + "," + num(gap, r.gap_to_mm);
+         num(gap, r.gap_from_mm) + "," + num(gap, r.gap_to_mm) + "," + warning_names(r.warnings);
   return row;
 }
 

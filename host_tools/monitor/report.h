@@ -24,6 +24,12 @@ std::string result_csv_row(const pitvol_Result &r);
 
 const char *state_name(pitvol_DeviceState s);
 
+// A string the board sent, safe to print on a terminal: control
+// characters (C0, DEL, C1) and bytes that are not UTF-8 become \xNN or
+// \u00NN escapes, so a device cannot move the cursor, clear the screen or
+// retitle the window. Printable UTF-8 (°, ³, ±) stays as it is.
+std::string printable(const std::string &s);
+
 }  // namespace pv::monitor
 
 #endif

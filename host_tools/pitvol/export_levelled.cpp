@@ -1,5 +1,7 @@
 #include "export_levelled.h"
 
+#include "out_file.h"
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -17,16 +19,6 @@ bool exportable(const pv_point_t &p) {
          std::fabs(p.z_mm) < kAbsurdMm;
 }
 
-namespace {
-
-struct FileCloser {
-  void operator()(FILE *f) const {
-    if (f) std::fclose(f);
-  }
-};
-
-}  // namespace
-
 bool export_levelled(const MeasureOptions &opt, pv_session_t *session, uint64_t count,
                      const std::string &out_path, std::string *err) {
   pv_transform_t tf{};
@@ -41,11 +33,8 @@ bool export_levelled(const MeasureOptions &opt, pv_session_t *session, uint64_t 
     *err = rerr.message;
     return false;
   }
-  std::unique_ptr<FILE, FileCloser> f(std::fopen(out_path.c_str(), "wb"));
-  if (!f) {
-    *err = "cannot write " + out_path;
-    return false;
-  }
+  OutFile f;  // complete or absent
+  if (!f.open(out_path, err)) return false;
   std::fprintf(f.get(), "ply\nformat binary_little_endian 1.0\n");
   std::fprintf(f.get(), "comment pitvol %s levelled cloud: bottom plane at z = 0, mm\n",
                PV_VERSION_STRING);
@@ -84,20 +73,13 @@ bool export_levelled(const MeasureOptions &opt, pv_session_t *session, uint64_t 
     written += out.size() / 3;
     if (written > count) break;  // the file changed under us: caught below
     // The host is little endian (x86-64, aarch64): floats go out as they are.
-    if (std::fwrite(out.data(), sizeof(float), out.size(), f.get()) != out.size()) {
-      *err = "cannot write " + out_path;
-      return false;
-    }
+    if (std::fwrite(out.data(), sizeof(float), out.size(), f.get()) != out.size()) break;
   }
-  if (written != count) {
+  if (written != count && std::ferror(f.get()) == 0) {
     *err = opt.path + " changed while it was exported";
     return false;
   }
-  if (std::fclose(f.release()) != 0) {
-    *err = "cannot write " + out_path;
-    return false;
-  }
-  return true;
+  return f.commit(err);
 }
 
 }  // namespace pv::tools

@@ -10,36 +10,19 @@
 #include <vector>
 
 #include "export_levelled.h"
+#include "out_file.h"
 #include "scanio/scan_reader.h"
 
 namespace pv::tools {
 
 namespace {
 
-struct FileCloser {
-  void operator()(FILE *f) const {
-    if (f) std::fclose(f);
-  }
-};
-using File = std::unique_ptr<FILE, FileCloser>;
-
 // Heights of outline.csv, as shares of the rim height.
 constexpr double kOutlineShares[] = {0.1, 0.3, 0.5, 0.7, 0.9};
 
-File open_out(const MeasureOptions &opt, const char *name, std::string *path, std::string *err) {
-  *path = opt.export_dir + "/" + name;
-  File f(std::fopen(path->c_str(), "w"));
-  if (!f) *err = "cannot write " + *path + ": " + std::strerror(errno);
-  return f;
-}
-
-bool close_out(File *f, const std::string &path, std::string *err) {
-  const bool bad = std::ferror(f->get()) != 0;
-  if (std::fclose(f->release()) != 0 || bad) {
-    *err = "cannot write " + path + " (disk full?)";
-    return false;
-  }
-  return true;
+// Each export file is complete or absent (out_file.h).
+bool open_out(const MeasureOptions &opt, const char *name, OutFile *f, std::string *err) {
+  return f->open(opt.export_dir + "/" + name, err);
 }
 
 const char *state_name(uint8_t s) {
@@ -104,9 +87,8 @@ bool write_points(const MeasureOptions &opt, const pv_transform_t &tf, uint64_t 
     *err = rerr.message;
     return false;
   }
-  std::string path;
-  File f = open_out(opt, "points.csv", &path, err);
-  if (!f) return false;
+  OutFile f;
+  if (!open_out(opt, "points.csv", &f, err)) return false;
   std::fprintf(f.get(), "x_mm,y_mm,z_mm\n");
   const double *R = tf.rotation, *t = tf.translation_mm;
   std::vector<pv_point_t> chunk(65536);
@@ -137,51 +119,31 @@ bool write_points(const MeasureOptions &opt, const pv_transform_t &tf, uint64_t 
     *err = opt.path + " changed while it was exported";
     return false;
   }
-  return close_out(&f, path, err);
+  return f.commit(err);
 }
 
 bool write_layers(const MeasureOptions &opt, const pv_session_t *s, const WallGrid &w,
                   std::string *err) {
-  size_t n = 0;
-  std::vector<pv_layer_info_t> layers(8192);
-  if (pv_session_layers(s, layers.data(), layers.size(), &n) != PV_OK) n = 0;
-  std::string path;
-  File f = open_out(opt, "layers.csv", &path, err);
-  if (!f) return false;
-  std::fprintf(f.get(), "z_mm,area_mm2,points,kept,shape,unseen_share,bridged\n");
-  for (size_t i = 0; i < n; ++i) {
-    const pv_layer_info_t &l = layers[i];
-    std::fprintf(f.get(), "%.3f,%.3f,%u,%u,%s,", double(l.z_mm), double(l.area_mm2), l.points,
-                 unsigned(l.kept), l.shape ? "crescent" : "circular");
-    // Bridged: the layer's section rests on wall the scan did not see
-    // (surface: half its wall unseen; paper, polar: a removed layer, which
-    // the volume interpolates across).
-    if (w.have) {
-      const double u = w.unseen_share(double(l.z_mm));
-      std::fprintf(f.get(), "%.4f,%d\n", u, u >= 0.5 ? 1 : 0);
-    } else {
-      std::fprintf(f.get(), ",%d\n", l.kept ? 0 : 1);
-    }
-  }
-  return close_out(&f, path, err);
+  OutFile f;
+  if (!open_out(opt, "layers.csv", &f, err)) return false;
+  write_layers_rows(f.get(), s, w.have ? &w : nullptr);
+  return f.commit(err);
 }
 
 bool write_coverage(const MeasureOptions &opt, const pv_result_t &r, std::string *err) {
-  std::string path;
-  File f = open_out(opt, "coverage.csv", &path, err);
-  if (!f) return false;
+  OutFile f;
+  if (!open_out(opt, "coverage.csv", &f, err)) return false;
   std::fprintf(f.get(), "band,z_from_mm,z_to_mm,seen_share\n");
   const double h = r.depth_mm / (r.coverage_bands ? r.coverage_bands : 1);
   for (uint32_t b = 0; b < r.coverage_bands; ++b) {
     std::fprintf(f.get(), "%u,%.3f,%.3f,%.4f\n", b, b * h, (b + 1) * h, double(r.coverage[b]));
   }
-  return close_out(&f, path, err);
+  return f.commit(err);
 }
 
 bool write_wall(const MeasureOptions &opt, const WallGrid &w, std::string *err) {
-  std::string path;
-  File f = open_out(opt, "wall_grid.csv", &path, err);
-  if (!f) return false;
+  OutFile f;
+  if (!open_out(opt, "wall_grid.csv", &f, err)) return false;
   std::fprintf(f.get(), "z_mm,theta_deg,radius_mm,x_mm,y_mm,state\n");
   const uint32_t T = w.g.theta_bins;
   for (uint32_t k = 0; k < w.g.z_bins; ++k) {
@@ -194,10 +156,9 @@ bool write_wall(const MeasureOptions &opt, const WallGrid &w, std::string *err) 
                    state_name(w.state[size_t(k) * T + t]));
     }
   }
-  if (!close_out(&f, path, err)) return false;
+  if (!f.commit(err)) return false;
 
-  f = open_out(opt, "outline.csv", &path, err);
-  if (!f) return false;
+  if (!open_out(opt, "outline.csv", &f, err)) return false;
   std::fprintf(f.get(), "height_mm,theta_deg,radius_mm,x_mm,y_mm,state\n");
   for (double share : kOutlineShares) {
     const double z = share * w.g.rim_mm;
@@ -211,15 +172,14 @@ bool write_wall(const MeasureOptions &opt, const WallGrid &w, std::string *err) 
                    state_name(w.state[size_t(k) * T + tt]));
     }
   }
-  return close_out(&f, path, err);
+  return f.commit(err);
 }
 
 bool write_model(const MeasureOptions &opt, const pv_transform_t &tf, pv_status_t tst,
                  const WallGrid &w, uint64_t count, uint64_t stride, uint64_t written,
                  std::string *err) {
-  std::string path;
-  File f = open_out(opt, "model.json", &path, err);
-  if (!f) return false;
+  OutFile f;
+  if (!open_out(opt, "model.json", &f, err)) return false;
   FILE *o = f.get();
   std::fprintf(o, "{\n  \"method\": \"%s\",\n", pv_method_name(opt.cfg.method));
   std::fprintf(o, "  \"levelling\": \"%s\",\n", pv_status_name(tst));
@@ -245,10 +205,47 @@ bool write_model(const MeasureOptions &opt, const pv_transform_t &tf, pv_status_
     std::fprintf(o, "%s%g", i ? ", " : "", kOutlineShares[i]);
   }
   std::fprintf(o, "]\n}\n");
-  return close_out(&f, path, err);
+  return f.commit(err);
 }
 
 }  // namespace
+
+void write_layers_rows(FILE *f, const pv_session_t *s, const void *wall_grid) {
+  const WallGrid *w = static_cast<const WallGrid *>(wall_grid);
+  size_t n = 0;
+  std::vector<pv_layer_info_t> layers(8192);
+  if (pv_session_layers(s, layers.data(), layers.size(), &n) != PV_OK) n = 0;
+  // The per-layer methods fit each layer's points; the surface model's
+  // layers are sections of its wall grid (no points of their own, no
+  // shape): their columns say what they have.
+  if (w != nullptr) {
+    std::fprintf(f, "z_mm,area_mm2,kept,unseen_share,bridged\n");
+  } else {
+    std::fprintf(f, "z_mm,area_mm2,points,kept,shape,bridged\n");
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const pv_layer_info_t &l = layers[i];
+    // Bridged: the layer's section rests on wall the scan did not see
+    // (surface: half its wall unseen; paper, polar: a removed layer, which
+    // the volume interpolates across).
+    if (w != nullptr) {
+      const double u = w->unseen_share(double(l.z_mm));
+      std::fprintf(f, "%.3f,%.3f,%u,%.4f,%d\n", double(l.z_mm), double(l.area_mm2), unsigned(l.kept), u,
+                   u >= 0.5 ? 1 : 0);
+    } else {
+      std::fprintf(f, "%.3f,%.3f,%u,%u,%s,%d\n", double(l.z_mm), double(l.area_mm2), l.points,
+                   unsigned(l.kept), l.shape ? "crescent" : "circular", l.kept ? 0 : 1);
+    }
+  }
+}
+
+bool write_layers_file(const MeasureOptions &opt, pv_session_t *s, FILE *f) {
+  WallGrid w;
+  pv_transform_t tf{};
+  if (opt.cfg.method == PV_METHOD_SURFACE && pv_session_transform(s, &tf) == PV_OK) w = read_wall_grid(s);
+  write_layers_rows(f, s, w.have ? &w : nullptr);
+  return std::ferror(f) == 0;
+}
 
 bool prepare_export_dir(const std::string &dir, std::string *err) {
   if (::mkdir(dir.c_str(), 0777) == 0 || errno == EEXIST) {
@@ -263,11 +260,10 @@ bool prepare_export_dir(const std::string &dir, std::string *err) {
 
 bool export_report(const MeasureOptions &opt, pv_session_t *session, const pv_result_t &r,
                    uint64_t count, const std::string &result_json, std::string *err) {
-  std::string path;
-  File f = open_out(opt, "result.json", &path, err);
-  if (!f) return false;
+  OutFile f;
+  if (!open_out(opt, "result.json", &f, err)) return false;
   std::fprintf(f.get(), "%s\n", result_json.c_str());
-  if (!close_out(&f, path, err)) return false;
+  if (!f.commit(err)) return false;
 
   pv_transform_t tf{};
   const pv_status_t tst = pv_session_transform(session, &tf);

@@ -13,6 +13,7 @@
 #define PV_TOOLS_EXPORT_REPORT_H
 
 #include <cstdint>
+#include <cstdio>
 #include <string>
 
 #include "measure.h"
@@ -31,6 +32,14 @@ bool prepare_export_dir(const std::string &dir, std::string *err);
 // result_json: the --json object. false with *err on the first failure.
 bool export_report(const MeasureOptions &opt, pv_session_t *session, const pv_result_t &r,
                    uint64_t count, const std::string &result_json, std::string *err);
+
+// Area against height, one row per 0.5 mm layer (layers.csv of the export
+// and `--layers FILE`): for method surface z_mm,area_mm2,kept,unseen_share,
+// bridged; for paper and polar z_mm,area_mm2,points,kept,shape,bridged.
+// wall_grid: the export's wall grid, or nullptr for the per-layer methods.
+void write_layers_rows(FILE *f, const pv_session_t *s, const void *wall_grid);
+// The same rows for `--layers`, reading the wall grid itself.
+bool write_layers_file(const MeasureOptions &opt, pv_session_t *s, FILE *f);
 
 }  // namespace pv::tools
 

@@ -5,23 +5,45 @@
 
 namespace pv::tools {
 
+// Valid UTF-8 out, and nothing a terminal acts on: C0, DEL and C1
+// controls are \u escapes; a byte that is not part of a UTF-8 sequence is
+// taken as Latin-1 (\u00XX), so the text survives and stays readable.
 std::string json_escape(const std::string &s) {
   std::string o = "\"";
-  for (const unsigned char c : s) {
+  char buf[8];
+  for (size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
     switch (c) {
-      case '"': o += "\\\""; break;
-      case '\\': o += "\\\\"; break;
-      case '\n': o += "\\n"; break;
-      case '\r': o += "\\r"; break;
-      case '\t': o += "\\t"; break;
-      default:
-        if (c < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          o += buf;
-        } else {
-          o += char(c);
-        }
+      case '"': o += "\\\""; ++i; continue;
+      case '\\': o += "\\\\"; ++i; continue;
+      case '\n': o += "\\n"; ++i; continue;
+      case '\r': o += "\\r"; ++i; continue;
+      case '\t': o += "\\t"; ++i; continue;
+      default: break;
+    }
+    if (c >= 0x20 && c < 0x7f) {
+      o += char(c);
+      ++i;
+      continue;
+    }
+    size_t n = c >= 0xc2 && c <= 0xdf ? 2 : c >= 0xe0 && c <= 0xef ? 3 : c >= 0xf0 && c <= 0xf4 ? 4 : 0;
+    if (n > 0 && i + n <= s.size()) {
+      for (size_t k = 1; k < n; ++k)
+        if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80) n = 0;
+    } else {
+      n = 0;
+    }
+    if (n == 2 && c == 0xc2 && static_cast<unsigned char>(s[i + 1]) < 0xa0) {
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned char>(s[i + 1]));
+      o += buf;
+      i += 2;
+    } else if (n > 0) {
+      o.append(s, i, n);
+      i += n;
+    } else {
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      o += buf;
+      ++i;
     }
   }
   return o + "\"";

@@ -35,8 +35,9 @@ const char kUsage[] =
     "exit codes: 0 measured, 2 usage, 3 unreadable or invalid input,\n"
     "            4 the scan cannot support a measurement, 5 internal error\n";
 
+// One line: what was wrong and where the options are listed.
 int usage_error(const std::string &msg) {
-  std::fprintf(stderr, "pitvol: %s\n%s", msg.c_str(), kUsage);
+  std::fprintf(stderr, "pitvol: %s (pitvol measure --help lists the options)\n", msg.c_str());
   return pv::tools::kExitUsage;
 }
 
@@ -104,7 +105,10 @@ int main(int argc, char **argv) {
   if (opt.path.empty()) return usage_error("no scan file given");
   if (!config_path.empty()) {
     std::string err;
-    if (!load_config_file(config_path, &opt.cfg, &err)) return usage_error(err);
+    if (!load_config_file(config_path, &opt.cfg, &err)) {
+      std::fprintf(stderr, "pitvol: %s\n", err.c_str());  // file:line: key = value and the range
+      return kExitUsage;
+    }
   }
   if (!method.empty() && pv_method_from_name(method.c_str(), &opt.cfg.method) != PV_OK) {
     return usage_error("unknown --method '" + method + "' (known: surface, paper, polar)");

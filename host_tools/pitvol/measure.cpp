@@ -16,6 +16,7 @@
 
 #include "export_levelled.h"
 #include "export_report.h"
+#include "out_file.h"
 #include "pitvol/result_report.h"
 
 namespace pv::tools {
@@ -73,15 +74,6 @@ std::string unit_warning(const Extent &e, const std::string &units) {
   return buf;
 }
 
-void warning_texts(uint32_t w, std::vector<std::string> *out) {
-  if (w & PV_WARN_POINTS_THINNED) out->push_back("dense layers were thinned to fit the fixed memory");
-  if (w & PV_WARN_INVALID_POINTS) out->push_back("NaN/Inf or absurd points were skipped");
-  if (w & PV_WARN_OUT_OF_RANGE) out->push_back("more than 1 % of points fell outside the depth range");
-  if (w & PV_WARN_LAYERS_REJECTED) out->push_back("more than 5 % of layers were rejected as outliers");
-  if (w & PV_WARN_LARGE_TILT) out->push_back("the scan is tilted more than 30 degrees");
-  if (w & PV_WARN_SPARSE_LAYERS) out->push_back("more than 10 % of layers had too few wall points");
-}
-
 class Progress {
  public:
   Progress(bool enabled, uint64_t total) : on_(enabled && total > (16u << 20) && isatty(2)), total_(total) {}
@@ -100,34 +92,6 @@ class Progress {
   bool on_;
   uint64_t total_;
   int last_ = -1;
-};
-
-// Area against height, one row per fitted layer: the profile a QA engineer
-// plots to see where a measurement went wrong. f was opened before the
-// measurement, so a bad path fails before the work, not after it.
-bool write_layers(FILE *f, const pv_session_t *s) {
-  size_t n = 0;
-  std::vector<pv_layer_info_t> layers(4096);
-  if (pv_session_layers(s, layers.data(), layers.size(), &n) != PV_OK) return false;
-  std::fprintf(f, "z_mm,area_mm2,points,kept,shape\n");
-  for (size_t i = 0; i < n; ++i) {
-    const pv_layer_info_t &l = layers[i];
-    std::fprintf(f, "%.3f,%.3f,%u,%u,%s\n", double(l.z_mm), double(l.area_mm2), l.points,
-                 unsigned(l.kept), l.shape ? "crescent" : "circular");
-  }
-  return std::ferror(f) == 0;
-}
-
-struct OutFile {
-  FILE *f = nullptr;
-  ~OutFile() {
-    if (f != nullptr) std::fclose(f);
-  }
-  bool close() {
-    FILE *g = f;
-    f = nullptr;
-    return std::fclose(g) == 0;
-  }
 };
 
 struct SessionBlock {
@@ -156,22 +120,17 @@ int run_measure(const MeasureOptions &opt) {
   std::unique_ptr<scanio::ScanReader> reader = scanio::open_scan(opt.path, opt.format, &err);
   if (!reader) return input_error(opt, err);
 
+  // Outputs are checked before the work: a bad path fails at once, not
+  // after the measurement. Each is complete or absent (out_file.h).
   OutFile layers;
-  if (!opt.layers_csv.empty()) {
-    layers.f = std::fopen(opt.layers_csv.c_str(), "w");
-    if (layers.f == nullptr) {
-      std::fprintf(stderr, "pitvol: cannot write --layers %s: %s\n", opt.layers_csv.c_str(),
-                   std::strerror(errno));
-      return kExitUsage;
-    }
+  std::string oerr;
+  if (!opt.layers_csv.empty() && !layers.open(opt.layers_csv, &oerr)) {
+    std::fprintf(stderr, "pitvol: --layers: %s\n", oerr.c_str());
+    return kExitInput;
   }
-
-  if (!opt.export_dir.empty()) {
-    std::string xerr;
-    if (!prepare_export_dir(opt.export_dir, &xerr)) {
-      std::fprintf(stderr, "pitvol: --export: %s\n", xerr.c_str());
-      return kExitUsage;
-    }
+  if (!opt.export_dir.empty() && !prepare_export_dir(opt.export_dir, &oerr)) {
+    std::fprintf(stderr, "pitvol: --export: %s\n", oerr.c_str());
+    return kExitInput;
   }
 
   size_t bytes = 0;
@@ -232,23 +191,21 @@ int run_measure(const MeasureOptions &opt) {
   pv_result_t r{};
   const pv_status_t st = pv_session_finish(session, &r);
   const double finish_ms = ms_since(t_finish);
-  bool layers_written = true;
-  if (layers.f != nullptr) {
-    layers_written = write_layers(layers.f, session);
-    layers_written = layers.close() && layers_written;
+  // Output failures: one line each, exit 3 after the result is printed.
+  std::vector<std::string> output_errors;
+  if (layers) {
+    write_layers_file(opt, session, layers.get());
+    if (!layers.commit(&oerr)) output_errors.push_back("--layers: " + oerr);
   }
-  if (!opt.export_levelled.empty()) {
-    std::string xerr;
-    if (!export_levelled(opt, session, exportable_points, opt.export_levelled, &xerr)) {
-      std::fprintf(stderr, "pitvol: --export-levelled: %s\n", xerr.c_str());
-    }
+  if (!opt.export_levelled.empty() &&
+      !export_levelled(opt, session, exportable_points, opt.export_levelled, &oerr)) {
+    output_errors.push_back("--export-levelled: " + oerr);
   }
   const double total_ms = ms_since(t_start);
 
-  std::vector<std::string> warnings;
+  std::vector<std::string> extra;
   const std::string uw = unit_warning(extent, opt.units);
-  if (!uw.empty()) warnings.push_back(uw);
-  warning_texts(r.warnings, &warnings);
+  if (!uw.empty()) extra.push_back(uw);
 
   const bool ok = st == PV_OK;
   JsonObject timings;
@@ -260,38 +217,28 @@ int run_measure(const MeasureOptions &opt) {
       .str("units", opt.units)
       .str("status", pv_status_name(st))
       .str("message", pv_status_message(st));
-  add_result_fields(&o, r, ok);
-  o.strings("warnings", warnings).raw("timings_ms", timings.text());
+  add_result_fields(&o, r, ok, extra);
+  o.raw("timings_ms", timings.text());
   // --export after the result: a refused scan is exported too (the report
   // shows why), and the files carry the same JSON as --json.
-  bool exported = true;
-  if (!opt.export_dir.empty()) {
-    std::string xerr;
-    exported = export_report(opt, session, r, exportable_points, o.text(), &xerr);
-    if (!exported) std::fprintf(stderr, "pitvol: --export: %s\n", xerr.c_str());
+  if (!opt.export_dir.empty() && !export_report(opt, session, r, exportable_points, o.text(), &oerr)) {
+    output_errors.push_back("--export: " + oerr);
   }
   if (opt.json) {
     std::printf("%s\n", o.text().c_str());
   } else if (ok) {
-    print_result_summary(stdout, r, opt.cfg.method);
-    for (const std::string &w : warnings) std::printf("warning        %s\n", w.c_str());
+    print_result_summary(stdout, r, opt.cfg.method, extra);
   } else {
-    for (const std::string &w : warnings) std::fprintf(stderr, "pitvol: warning: %s\n", w.c_str());
+    // A refusal says what to do; of the warnings only the tool's own (the
+    // units) can explain it.
+    for (const std::string &w : extra) std::fprintf(stderr, "pitvol: warning: %s\n", w.c_str());
   }
-  if (!ok) {
-    print_refusal(stderr, "pitvol", st, r);
-    return (st == PV_ERR_INTERNAL || st == PV_ERR_OUT_OF_MEMORY) ? kExitInternal : kExitNoMeasurement;
+  if (!ok) print_refusal(stderr, "pitvol", st, r);
+  for (const std::string &e : output_errors) {
+    std::fprintf(stderr, "pitvol: %s%s\n", e.c_str(), ok ? " (the result above is valid)" : "");
   }
-  if (!exported) {
-    std::fprintf(stderr, "pitvol: writing --export %s failed; the result above is valid\n",
-                 opt.export_dir.c_str());
-    return kExitInternal;
-  }
-  if (!layers_written) {
-    std::fprintf(stderr, "pitvol: writing --layers %s failed (disk full?); the result above is valid\n",
-                 opt.layers_csv.c_str());
-    return kExitInternal;
-  }
+  if (!ok) return (st == PV_ERR_INTERNAL || st == PV_ERR_OUT_OF_MEMORY) ? kExitInternal : kExitNoMeasurement;
+  if (!output_errors.empty()) return kExitInput;
   return kExitOk;
 }
 

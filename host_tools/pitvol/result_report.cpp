@@ -3,9 +3,23 @@
 #include <cstdio>
 #include <string>
 
+#include "pitvol/advice.h"
+
 namespace pv::tools {
 
-void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured) {
+WarningLists warning_lists(const pv_result_t &r, const std::vector<std::string> &extra) {
+  WarningLists w;
+  w.warnings = extra;
+  const uint32_t attention = pv_warnings_attention(r.warnings, r.unseen_share);
+  for (uint32_t bit = 1; bit != 0 && bit <= PV_WARN_ALL; bit <<= 1) {
+    if (!(r.warnings & bit) || pv_warning_message(bit) == nullptr) continue;
+    (attention & bit ? w.warnings : w.notes).push_back(pv_warning_message(bit));
+  }
+  return w;
+}
+
+void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured,
+                       const std::vector<std::string> &extra_warnings) {
   if (measured) {
     o->num("volume_cm3", r.volume_cm3)
         .num("interval_cm3", r.interval_cm3)
@@ -31,6 +45,13 @@ void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured) {
         .num("check_value", r.check_value)
         .num("check_limit", r.check_limit);
   }
+  if (r.status != PV_OK) {
+    pv_advice_t a;
+    pv_advice_refusal(&r, r.status, &a);
+    o->str("advice", a.sentence);
+  }
+  const WarningLists w = warning_lists(r, extra_warnings);
+  o->strings("warnings", w.warnings).strings("notes", w.notes).integer("warning_bits", r.warnings);
 }
 
 std::string coverage_json(const pv_result_t &r) {
@@ -43,7 +64,8 @@ std::string coverage_json(const pv_result_t &r) {
   return a + "]";
 }
 
-void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method) {
+void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method,
+                          const std::vector<std::string> &extra_warnings) {
   if (r.interval_cm3 > 0) {
     std::fprintf(f, "pit volume     %.1f +/- %.1f cm3\n", r.volume_cm3, r.interval_cm3);
   } else {
@@ -51,10 +73,21 @@ void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method
   }
   std::fprintf(f, "depth          %.1f mm\n", r.depth_mm);
   std::fprintf(f, "tilt           %.2f deg\n", r.tilt_deg);
-  std::fprintf(f, "layers         %u used, %u rejected\n", r.layers_used, r.layers_rejected);
-  std::fprintf(f, "points         %llu in, %llu used\n", (unsigned long long)r.points_in,
-               (unsigned long long)r.points_used);
+  // The core's layers_used/rejected count wall bins for the surface model.
+  if (method == PV_METHOD_SURFACE) {
+    std::fprintf(f, "wall bins      %u seen, %u rejected\n", r.layers_used, r.layers_rejected);
+    std::fprintf(f, "unseen wall    %.1f %% of the volume, bridged (in the interval)\n",
+                 100.0 * r.unseen_share);
+  } else {
+    std::fprintf(f, "layers         %u used, %u rejected\n", r.layers_used, r.layers_rejected);
+  }
+  std::fprintf(f, "points         %llu read, %llu used%s\n", (unsigned long long)r.points_in,
+               (unsigned long long)r.points_used,
+               (r.warnings & PV_WARN_POINTS_THINNED) ? " (dense bins thinned to the fixed memory)" : "");
   std::fprintf(f, "method         %s (pitvol %s)\n", pv_method_name(method), PV_VERSION_STRING);
+  for (const std::string &w : warning_lists(r, extra_warnings).warnings) {
+    std::fprintf(f, "warning        %s\n", w.c_str());
+  }
 }
 
 std::string check_figures(const pv_result_t &r) {
@@ -98,15 +131,12 @@ std::string check_figures(const pv_result_t &r) {
 }
 
 void print_refusal(std::FILE *f, const char *tool, pv_status_t st, const pv_result_t &r) {
-  std::fprintf(f, "%s: no measurement (%s): %s\n", tool, pv_status_name(st), pv_status_message(st));
-  if (st == PV_ERR_WALL_GAP) {
-    std::fprintf(f, "%s: the wall from %.1f mm to %.1f mm above the bottom has no usable outline\n",
-                 tool, r.gap_from_mm, r.gap_to_mm);
-  }
+  pv_advice_t a;
+  pv_advice_refusal(&r, st, &a);
+  std::fprintf(f, "%s: no measurement (%s): %s\n", tool, pv_status_name(st), a.sentence);
   if (st == PV_ERR_NOT_A_PIT && r.failed_check != PV_PIT_CHECK_NONE) {
-    std::fprintf(f, "%s: %s: %s\n", tool, pv_pit_check_name(r.failed_check),
-                 pv_pit_check_message(r.failed_check));
-    std::fprintf(f, "%s: measured %s\n", tool, check_figures(r).c_str());
+    std::fprintf(f, "%s: %s: measured %s\n", tool, pv_pit_check_name(r.failed_check),
+                 check_figures(r).c_str());
   }
 }
 

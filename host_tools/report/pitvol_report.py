@@ -14,9 +14,11 @@ why), 2 usage, 3 the scan or the export cannot be read, 5 internal error.
 """
 import argparse
 import base64
+import errno
 import html
 import io
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -31,14 +33,25 @@ import report_plots  # noqa: E402
 # Result block rows: (JSON key, label, format, unit). The page carries each
 # value exactly (data-value, repr) besides the rounded text, so a test can
 # compare it with `pitvol measure --json`.
+# What layers_used/layers_rejected count depends on the method: the surface
+# model's wall bins, the per-layer methods' 0.5 mm layers.
+SURFACE_LABELS = {"layers_used": "Wall bins seen", "layers_rejected": "Wall bins rejected"}
+
+
+def row_label(result, key, label):
+    if result.get("method") == "surface":
+        return SURFACE_LABELS.get(key, label)
+    return label
+
+
 RESULT_ROWS = [
     ("volume_cm3", "Volume", "{:.1f}", "cm³"),
     ("interval_cm3", "Interval (±)", "{:.1f}", "cm³"),
     ("depth_mm", "Depth (floor plane to rim)", "{:.1f}", "mm"),
     ("tilt_deg", "Tilt of the scan", "{:.2f}", "deg"),
     ("unseen_share", "Volume over unseen wall", "{:.2%}", ""),
-    ("layers_used", "Wall bins / layers used", "{:d}", ""),
-    ("layers_rejected", "Wall bins / layers rejected", "{:d}", ""),
+    ("layers_used", "Layers used", "{:d}", ""),
+    ("layers_rejected", "Layers rejected", "{:d}", ""),
     ("points_in", "Points read", "{:d}", ""),
     ("points_used", "Points used", "{:d}", ""),
 ]
@@ -77,6 +90,95 @@ def fail(code, msg):
     sys.exit(code)
 
 
+# Plausible ranges of the numbers a user types: the numbers of
+# firmware/density/include/pitvol/density.h (tests/report checks they agree),
+# so the report refuses what the board refuses.
+RANGES = {
+    "mass-g": (50.0, 100000.0, "g", "wet mass of the excavated soil"),
+    "moisture-percent": (0.0, 100.0, "%", "water content, % of the dry mass"),
+    "max-dry-density-kg-m3": (1000.0, 2800.0, "kg/m3",
+                              "Proctor maximum dry density; a value in g/cm3 times 1000"),
+    "required-compaction-percent": (50.0, 110.0, "%",
+                                    "relative compaction the specification requires"),
+}
+DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+
+
+def typed_number(option):
+    """An argparse type: a decimal number (not 0x10, 1,5, inf or nan)
+    inside the option's plausible range; the refusal names the range."""
+    lo, hi, unit, what = RANGES[option]
+
+    def parse(text):
+        if "," in text:
+            raise argparse.ArgumentTypeError(
+                f"'{text}' is not a number: write decimals with a point (1.5, not 1,5)")
+        if not DECIMAL.fullmatch(text):
+            raise argparse.ArgumentTypeError(f"'{text}' is not a decimal number")
+        v = float(text)
+        if not (lo <= v <= hi):
+            raise argparse.ArgumentTypeError(
+                f"{v:g} {unit} is outside {lo:g} .. {hi:g} {unit} ({what})")
+        return v
+    return parse
+
+
+def record_text(name, limit):
+    """An argparse type for the record's words: printable, bounded."""
+    def parse(text):
+        if any(ord(c) < 0x20 or 0x7f <= ord(c) < 0xa0 for c in text):
+            raise argparse.ArgumentTypeError(f"{name} holds a control character; use printable text")
+        if len(text) > limit:
+            raise argparse.ArgumentTypeError(f"{name} is longer than {limit} characters")
+        return text
+    return parse
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """Usage errors in one line (exit 2), not the usage text again."""
+
+    def error(self, message):
+        fail(2, f"{message} (pitvol-report --help lists the options)")
+
+
+def write_atomic(path, write, binary=False):
+    """Writes path through a temporary file beside it, renamed into place:
+    the file is complete or absent. A path that exists and is not a
+    regular file (/dev/full, a FIFO) is written in place. OSError -> exit 3."""
+    tmp = None
+    try:
+        if os.path.isdir(path):
+            raise IsADirectoryError(errno.EISDIR, "it is a directory")
+        if os.path.exists(path) and not os.path.isfile(path):
+            with open(path, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as f:
+                write(f)
+            return
+        fd, tmp = tempfile.mkstemp(prefix=os.path.basename(path) + ".tmp-",
+                                   dir=os.path.dirname(os.path.abspath(path)))
+        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as f:
+            write(f)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+        tmp = None
+    except OSError as err:
+        fail(3, f"cannot write {path}: {err.strerror or err}")
+    finally:
+        if tmp and os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def check_writable(path):
+    """Before the work: the folder exists and takes a file, the path is no
+    folder (so a bad --out fails at once, not after the plots)."""
+    d = os.path.dirname(os.path.abspath(path))
+    if os.path.isdir(path):
+        fail(3, f"cannot write {path}: it is a directory")
+    if not os.path.isdir(d):
+        fail(3, f"cannot write {path}: the folder {d} does not exist")
+    if not os.access(d, os.W_OK) and not (os.path.exists(path) and os.access(path, os.W_OK)):
+        fail(3, f"cannot write {path}: the folder {d} is not writable")
+
+
 def png_base64(fig):
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=100, metadata={"Software": None})
@@ -106,8 +208,9 @@ def result_block(ex, dens, mass_g, moisture):
         parts.append(
             f'<p class="big" data-key="headline">{r["volume_cm3"]:.1f} ± {r["interval_cm3"]:.1f} cm³</p>')
     else:
+        advice = r.get("advice") or r.get("message", "")
         parts.append(f'<div class="refused"><b>No measurement: {e(str(r.get("status")))}</b><br>'
-                     f'{e(str(r.get("message", "")))}</div>')
+                     f'<span data-key="advice">{e(str(advice))}</span></div>')
     parts.append('<table class="result">')
     parts.append(f'<tr><th>Method</th><td data-key="method" data-value="{e(str(r.get("method")))}">'
                  f'{e(str(r.get("method")))}</td></tr>')
@@ -119,8 +222,8 @@ def result_block(ex, dens, mass_g, moisture):
             text, val = "—", "null"
         else:
             text, val = fmt.format(v) + (f" {unit}" if unit else ""), repr(v)
-        parts.append(f'<tr><th>{e(label)}</th><td data-key="{key}" data-value="{e(val)}">'
-                     f'{e(text)}</td></tr>')
+        parts.append(f'<tr><th>{e(row_label(r, key, label))}</th><td data-key="{key}" '
+                     f'data-value="{e(val)}">{e(text)}</td></tr>')
     if r.get("gap_to_mm"):
         parts.append(f'<tr><th>Widest unseen band</th><td>{r["gap_from_mm"]:.0f} to '
                      f'{r["gap_to_mm"]:.0f} mm</td></tr>')
@@ -141,7 +244,12 @@ def result_block(ex, dens, mass_g, moisture):
         parts.extend(f'<li data-key="warning">{e(w)}</li>' for w in warnings)
         parts.append("</ul>")
     else:
-        parts.append('<p>No warnings.</p>')
+        parts.append('<p data-key="no-warnings">No warnings.</p>')
+    notes = r.get("notes") or []
+    if notes:
+        parts.append('<p class="note-head">Notes</p><ul class="notes">')
+        parts.extend(f'<li data-key="note">{e(n)}</li>' for n in notes)
+        parts.append("</ul>")
     return "\n".join(parts)
 
 
@@ -177,10 +285,11 @@ def write_pdf(path, ex, figs, dens):
             lines.append(f"Volume  {r['volume_cm3']:.1f} +/- {r['interval_cm3']:.1f} cm3")
         else:
             lines.append(f"No measurement: {r.get('status')}")
-            lines.append(str(r.get("message", "")))
+            lines.append(str(r.get("advice") or r.get("message", "")))
         for key, label, fmt, unit in RESULT_ROWS:
             v = r.get(key)
-            lines.append(f"{label}:  " + ("-" if v is None else fmt.format(v) + f" {unit}"))
+            lines.append(f"{row_label(r, key, label)}:  " +
+                         ("-" if v is None else fmt.format(v) + f" {unit}"))
         lines.append(f"Method:  {r.get('method')}")
         if dens:
             for kind in ("wet", "dry"):
@@ -188,6 +297,8 @@ def write_pdf(path, ex, figs, dens):
                     lines.append(f"{kind.capitalize()} density:  {dens[kind][0]:.0f} kg/m3")
         for w in r.get("warnings") or []:
             lines.append(f"Warning: {w}")
+        for n in r.get("notes") or []:
+            lines.append(f"Note: {n}")
         page.text(0.08, 0.95, "\n".join(lines), va="top", family="monospace", fontsize=10)
         pdf.savefig(page)
         plt.close(page)
@@ -206,13 +317,15 @@ def find_pitvol(explicit):
 
 
 def main(argv):
-    ap = argparse.ArgumentParser(prog="pitvol-report", description=__doc__.split("\n\n")[0])
+    ap = OneLineParser(prog="pitvol-report", description=__doc__.split("\n\n")[0])
     ap.add_argument("source", help="a scan file, or a directory written by pitvol measure --export")
     ap.add_argument("--out", required=True, help="the HTML page to write")
     ap.add_argument("--pdf", help="also a printable PDF")
     ap.add_argument("--pitvol", help="the pitvol program (default: beside this tool, else PATH)")
-    ap.add_argument("--mass-g", type=float, help="wet mass of the excavated soil, g: density")
-    ap.add_argument("--moisture-percent", type=float, help="water content, %% of the dry mass")
+    ap.add_argument("--mass-g", type=typed_number("mass-g"),
+                    help="wet mass of the excavated soil, g (50 .. 100000): density")
+    ap.add_argument("--moisture-percent", type=typed_number("moisture-percent"),
+                    help="water content, %% of the dry mass (0 .. 100)")
     ap.epilog = "options after -- go to pitvol measure (e.g. -- --units m --method paper)"
     # Split at "--" here: argparse would take the first option after it as
     # the source's neighbour and refuse it.
@@ -222,8 +335,9 @@ def main(argv):
         argv, measure_args = argv[:cut], argv[cut + 1:]
     a = ap.parse_args(argv)
     a.measure_args = measure_args
-    if a.mass_g is not None and not a.mass_g > 0:
-        fail(2, "--mass-g must be > 0")
+    check_writable(a.out)
+    if a.pdf:
+        check_writable(a.pdf)
 
     tmp = None
     try:
@@ -249,10 +363,9 @@ def main(argv):
         dens = density(ex.result, a.mass_g, a.moisture_percent) if ex.measured else None
         figs = report_plots.all_figures(ex)
         page = render_html(ex, figs, dens, a.mass_g, a.moisture_percent)
-        with open(a.out, "w", encoding="utf-8") as f:
-            f.write(page)
+        write_atomic(a.out, lambda f: f.write(page))
         if a.pdf:
-            write_pdf(a.pdf, ex, figs, dens)
+            write_atomic(a.pdf, lambda f: write_pdf(f, ex, figs, dens), binary=True)
         report_plots.close(figs)
     finally:
         if tmp:
@@ -262,4 +375,9 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    try:
+        sys.exit(main(sys.argv[1:]))
+    except KeyboardInterrupt:
+        fail(130, "interrupted")
+    except Exception as err:  # noqa: BLE001  one line, not a traceback
+        fail(5, f"internal error: {type(err).__name__}: {err}; please report it with the scan")

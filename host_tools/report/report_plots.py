@@ -48,8 +48,8 @@ def area_profile(ex):
         ax.plot(z[~kept & ok], a[~kept & ok], "x", ms=4, color="#c62828",
                 label="rejected layer" if ex.model.get("wall_grid") is None
                 else "layer mostly unseen")
-    unseen = [r["unseen_share"] for r in ex.layers]
-    if all(u != "" for u in unseen):  # surface: the share of each layer's wall not seen
+    unseen = [r.get("unseen_share") for r in ex.layers]
+    if all(u not in (None, "") for u in unseen):  # surface: the share of each layer's wall not seen
         share = np.array([float(u) for u in unseen])
         ax2 = ax.twinx()
         ax2.fill_between(z, 0, 100 * share, color="#e65100", alpha=0.25, lw=0)

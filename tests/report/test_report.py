@@ -248,7 +248,7 @@ def cmd_methods(bin_dir, work):
     with open(out, encoding="utf-8") as f:
         check("No measurement" in f.read(), "the refusal is not on the page")
     # --export onto a file: refused before the measurement, with the reason.
-    p = run([os.path.join(bin_dir, "pitvol"), "measure", scan, "--export", scan], codes=(2,))
+    p = run([os.path.join(bin_dir, "pitvol"), "measure", scan, "--export", scan], codes=(3,))
     check("is not a directory" in p.stderr and p.stdout == "", f"--export onto a file: {p.stderr}")
     # Usage and input errors: exit codes, not a page.
     check(run([report, os.path.join(work, "missing.ply"), "--out", out], codes=(3,)).returncode == 3,

@@ -56,12 +56,25 @@ near wet_low_kg_m3 1929.2604501608  # 3000 / 1555
 near wet_high_kg_m3 2006.6889632107 # 3000 / 1495
 near dry_kg_m3 1748.6338797814      # wet / 1.125
 near compaction_percent 94.520750258455  # dry / 1850
+# The warning bits decoded from the core's table: result 22 (even: 3 % of
+# the volume bridged, and thinned) as text; never a bare bit mask.
+printf 'start\nstop\n' | mon "$port" watch --count 1 --seconds 20 >"$work/watch22.txt" || fail "watch 22"
+grep -q '^result   #22 .*, warnings: unseen wall bridged$' "$work/watch22.txt" \
+  || fail "result 22: warnings not decoded ($(cat "$work/watch22.txt"))"
+grep -q '^         warning: part of the wall was not seen' "$work/watch22.txt" || fail "result 22: no sentence"
+grep -q '^         notes: dense bins thinned$' "$work/watch22.txt" || fail "result 22: no notes"
+grep -q '0x' "$work/watch22.txt" && fail "result 22: a bare warning mask"
+mon "$port" fetch --from 21 --json >"$work/r2122.json" 2>/dev/null
+grep -q '"id": 21, .*"warnings": \[\], "notes": \["dense parts of the scan were thinned' "$work/r2122.json" \
+  || fail "result 21 JSON: thinning is a note ($(cat "$work/r2122.json"))"
+mon "$port" fetch --from 22 >"$work/r22.csv" 2>/dev/null
+tail -1 "$work/r22.csv" | grep -q ',PV_WARN_POINTS_THINNED PV_WARN_BRIDGED$' || fail "result 22 CSV: $(tail -1 "$work/r22.csv")"
 # Refusals: exit status 1 and a reason.
 set +e
 mon "$port" set-mass -5 2>"$work/nack.err"; rc=$?
 set -e
 [ $rc -eq 1 ] || fail "negative mass: exit $rc, want 1"
-grep -q "more than 0 g" "$work/nack.err" || fail "negative mass: no reason"
+grep -q "outside 50 .. 100000 g" "$work/nack.err" || fail "negative mass: no reason"
 set +e
 mon "$port" stop 2>/dev/null; rc=$?
 set -e
@@ -147,15 +160,43 @@ grep -q '"status": "PV_ERR_NOT_A_PIT", .*"volume_cm3": null, .*"failed_check": "
   && [ "$(field check_limit "$work/sphere-result.json")" = "$want_limit" ] \
   || fail "sphere: figures $(field check_value "$work/sphere-result.json") / $(field check_limit "$work/sphere-result.json"), pitvol measure $want_value / $want_limit"
 mon "$work/sphere-port" fetch >"$work/sphere.csv" 2>/dev/null || fail "sphere fetch csv"
-head -1 "$work/sphere.csv" | grep -q ',failed_check,check_value,check_limit,gap_from_mm,gap_to_mm$' \
+head -1 "$work/sphere.csv" | grep -q ',failed_check,check_value,check_limit,gap_from_mm,gap_to_mm,warning_names$' \
   || fail "CSV header without the refusal columns"
-tail -1 "$work/sphere.csv" | grep -q ",PV_PIT_CHECK_NARROW_MOUTH,[0-9.e-]*,0.5,,$" \
+tail -1 "$work/sphere.csv" | grep -q ",PV_PIT_CHECK_NARROW_MOUTH,[0-9.e-]*,0.5,,,[A-Z_ ]*$" \
   || fail "sphere: CSV row $(tail -1 "$work/sphere.csv")"
 printf 'start\nstop\n' | mon "$work/sphere-port" watch --count 1 --seconds 60 >"$work/sphere.txt" \
   || fail "sphere watch (text)"
 grep -q "no measurement: PV_ERR_NOT_A_PIT (PV_PIT_CHECK_NARROW_MOUTH: rim section / widest section [0-9.]* (an open pit: at least 0.50))" \
   "$work/sphere.txt" || fail "sphere: text without its check ($(cat "$work/sphere.txt"))"
 echo "sphere: refused by the mouth check, figure $want_value (limit $want_limit) as pitvol measure"
+
+# 4c. A device whose strings carry terminal control sequences (clear the
+# screen, retitle the window, 8-bit CSI, bytes that are not UTF-8): the
+# monitor's text never passes a control byte to the terminal, it shows
+# them escaped; JSON escapes them as JSON does.
+start_device hostile --preload 2 --hostile
+ctl() { LC_ALL=C grep -c $'[\x01-\x08\x0b-\x1f\x7f\x9b]' "$1" || true; }
+mon "$work/hostile-port" hello >"$work/hostile-hello.txt" || fail "hostile hello"
+[ "$(ctl "$work/hostile-hello.txt")" = 0 ] || fail "hello passed control bytes: $(od -c "$work/hostile-hello.txt" | head)"
+grep -qF 'device \x1b[2J\x1b]0;owned\x07\x9b31m\u009b1m\xff, protocol' "$work/hostile-hello.txt" \
+  || fail "hello: the device id not shown escaped ($(cat "$work/hostile-hello.txt"))"
+LC_ALL=C grep -q $'\xc2\x9b' "$work/hostile-hello.txt" && fail "hello passed a UTF-8 C1 control"
+set +e
+mon "$work/hostile-port" stop 2>"$work/hostile-nack.txt"; rc=$?
+set -e
+[ $rc -eq 1 ] || fail "hostile stop while idle: exit $rc"
+[ "$(ctl "$work/hostile-nack.txt")" = 0 ] || fail "a refusal passed control bytes"
+grep -qF 'refused: \x1b[2J' "$work/hostile-nack.txt" || fail "refusal not escaped: $(cat "$work/hostile-nack.txt")"
+printf 'start\nstop\n' | mon "$work/hostile-port" watch --count 1 --seconds 20 >"$work/hostile-watch.txt" 2>&1 \
+  || fail "hostile watch"
+[ "$(ctl "$work/hostile-watch.txt")" = 0 ] || fail "watch passed control bytes: $(od -c "$work/hostile-watch.txt" | head -20)"
+grep -qF 'po\x1b[8mlar, volume' "$work/hostile-watch.txt" || fail "method not escaped: $(cat "$work/hostile-watch.txt")"
+mon "$work/hostile-port" fetch >"$work/hostile.csv" 2>/dev/null || fail "hostile fetch"
+[ "$(ctl "$work/hostile.csv")" = 0 ] || fail "CSV passed control bytes"
+mon "$work/hostile-port" hello --json >"$work/hostile.json" || fail "hostile hello json"
+[ "$(ctl "$work/hostile.json")" = 0 ] || fail "JSON passed control bytes"
+grep -qF '"device_id": "\u001b[2J' "$work/hostile.json" || fail "JSON: $(cat "$work/hostile.json")"
+echo "hostile device: every string escaped"
 
 # 5. A board whose clock was never set (1970, no RTC): its results carry
 # time 0, which the monitor shows as clock-not-set, not as a 1970 date.

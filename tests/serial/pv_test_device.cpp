@@ -8,12 +8,14 @@
 //
 //   pv-test-device --log DIR --port-link PATH [--preload N] [--scan FILE]
 //                  [--noise PERCENT] [--seed S] [--max-dry KG_M3] [--seconds S]
-//                  [--lose-id ID] [--clock UNIX_S]
+//                  [--lose-id ID] [--clock UNIX_S] [--hostile]
 //
 // PATH becomes a symlink to the pty's slave side: the monitor's PORT.
 // --noise: that share of the bytes, both directions, is flipped, dropped or
 // preceded by a random byte (line noise). --lose-id: the log acts as if that
-// record were damaged (GetResults skips it).
+// record were damaged (GetResults skips it). --hostile: the strings it sends
+// (device id, method, refusals, errors) carry terminal control sequences,
+// as a broken or malicious board might.
 #include <fcntl.h>
 #include <poll.h>
 #include <pty.h>
@@ -35,6 +37,7 @@
 #include "board_clock.h"
 #include "board_refusal.h"
 #include "pitvol/density.h"
+#include "pitvol/user_input.h"
 #include "pitvol/link.h"
 #include "pitvol/pitvol.h"
 #include "pitvol/result_log.h"
@@ -60,7 +63,12 @@ struct Options {
   int64_t clock = 1790000000;  // the board clock's reading at result 0 (0: never set)
   double noise_percent = 0, max_dry = 1850.0, seconds = 600;
   uint64_t seed = 1;
+  bool hostile = false;
 };
+
+// Clears the screen, retitles the window, rings the bell, an 8-bit CSI
+// (0x9b) and its UTF-8 form (U+009B), a stray byte that is not UTF-8.
+const char kHostile[] = "\x1b[2J\x1b]0;owned\x07\x9b" "31m\xc2\x9b" "1m\xff";
 
 // Line noise on a byte stream.
 struct Noise {
@@ -137,7 +145,7 @@ pitvol_Result make_result(Device &d, uint32_t id, const pv_result_t &r, const ch
   // unset clock (--clock 0, 1970) gives time 0.
   out.time_unix_s = pv_board_result_time(d.opt.clock + int64_t(id) * 60);
   out.status = int32_t(r.status);
-  std::snprintf(out.method, sizeof out.method, "%s", method);
+  std::snprintf(out.method, sizeof out.method, "%s", d.opt.hostile ? "po\x1b[8mlar" : method);
   out.volume_cm3 = r.volume_cm3;
   out.interval_cm3 = r.interval_cm3;
   out.depth_mm = r.depth_mm;
@@ -201,6 +209,10 @@ pv_result_t synthetic(uint32_t id) {
   r.depth_mm = 150.0;
   r.points_in = 100000 + id;
   r.points_used = 90000 + id;
+  // As a surface scan's: thinned always (a note), on even ids 3 % of the
+  // volume over bridged wall (a warning).
+  r.warnings = PV_WARN_POINTS_THINNED | (id % 2 == 0 ? PV_WARN_BRIDGED : 0u);
+  r.unseen_share = id % 2 == 0 ? 0.03 : 0.002;
   return r;
 }
 
@@ -233,7 +245,7 @@ void send_hello(Device &d) {
   pitvol_Hello &h = m.body.hello;
   h.protocol_version = PV_LINK_PROTOCOL_VERSION;
   std::snprintf(h.firmware_version, sizeof h.firmware_version, "%s", PV_VERSION_STRING);
-  std::snprintf(h.device_id, sizeof h.device_id, "PV-TEST-0001");
+  std::snprintf(h.device_id, sizeof h.device_id, "%s", d.opt.hostile ? kHostile : "PV-TEST-0001");
   h.capabilities = pitvol_Capability_CAP_RESULT_LOG | pitvol_Capability_CAP_DENSITY;
   h.max_frame_bytes = PV_LINK_MAX_WIRE_BYTES;
   h.first_result_id = pv_log_first_seq(&d.log);
@@ -280,7 +292,7 @@ void nack(Device &d, uint32_t seq, pitvol_NackCode code, const char *reason) {
   m.which_body = pitvol_Message_nack_tag;
   m.body.nack.command_seq = seq;
   m.body.nack.code = code;
-  std::snprintf(m.body.nack.reason, sizeof m.body.nack.reason, "%s", reason);
+  std::snprintf(m.body.nack.reason, sizeof m.body.nack.reason, "%s%s", d.opt.hostile ? kHostile : "", reason);
   reply(d, m);
 }
 
@@ -311,7 +323,8 @@ void finish_scan(Device &d) {
     e.which_body = pitvol_Message_error_tag;
     e.body.error.code = int32_t(r.status);
     std::snprintf(e.body.error.name, sizeof e.body.error.name, "%s", pv_status_name(r.status));
-    std::snprintf(e.body.error.message, sizeof e.body.error.message, "%s", pv_status_message(r.status));
+    std::snprintf(e.body.error.message, sizeof e.body.error.message, "%s%s", d.opt.hostile ? kHostile : "",
+                  pv_status_message(r.status));
     queue_reliable(d, e);
   }
 }
@@ -341,37 +354,18 @@ void handle(Device &d, const pv_link_rx_t &rx) {
       d.state = pitvol_DeviceState_STATE_COMPUTING;
       ack(d, rx.seq);
       break;
-    case pitvol_Message_set_mass_tag: {
-      pv_density_input_t in{};
-      in.volume_cm3 = 1;
-      in.has_mass = 1;
-      in.mass_g = m.body.set_mass.mass_g;
-      pv_density_t den;
-      const pv_density_status_t st = pv_density_compute(&in, &den);
-      if (st != PV_DENSITY_OK) {
-        nack(d, rx.seq, pitvol_NackCode_NACK_OUT_OF_RANGE, pv_density_status_message(st));
-        break;
-      }
-      d.mass_set = true;
-      d.mass_g = m.body.set_mass.mass_g;
-      ack(d, rx.seq);
-      break;
-    }
+    case pitvol_Message_set_mass_tag:
     case pitvol_Message_set_moisture_tag: {
-      pv_density_input_t in{};
-      in.volume_cm3 = 1;
-      in.has_mass = 1;
-      in.mass_g = 1;
-      in.has_moisture = 1;
-      in.moisture_percent = m.body.set_moisture.moisture_percent;
-      pv_density_t den;
-      const pv_density_status_t st = pv_density_compute(&in, &den);
-      if (st != PV_DENSITY_OK) {
-        nack(d, rx.seq, pitvol_NackCode_NACK_OUT_OF_RANGE, pv_density_status_message(st));
+      // As the board: the plausible ranges of pitvol/user_input.h.
+      const bool moisture = m.which_body == pitvol_Message_set_moisture_tag;
+      const double v = moisture ? m.body.set_moisture.moisture_percent : m.body.set_mass.mass_g;
+      char why[sizeof(pitvol_Nack{}.reason)];
+      if (pv_input_check(moisture ? PV_INPUT_MOISTURE_PERCENT : PV_INPUT_MASS_G, v, why, sizeof why) != 0) {
+        nack(d, rx.seq, pitvol_NackCode_NACK_OUT_OF_RANGE, why);
         break;
       }
-      d.moisture_set = true;
-      d.moisture_percent = m.body.set_moisture.moisture_percent;
+      (moisture ? d.moisture_set : d.mass_set) = true;
+      (moisture ? d.moisture_percent : d.mass_g) = v;
       ack(d, rx.seq);
       break;
     }
@@ -423,7 +417,7 @@ int usage() {
   std::fprintf(stderr,
                "usage: pv-test-device --log DIR --port-link PATH [--preload N] [--scan FILE]\n"
                "                      [--noise PERCENT] [--seed S] [--max-dry KG_M3] [--seconds S]\n"
-               "                      [--lose-id ID] [--clock UNIX_S]\n");
+               "                      [--lose-id ID] [--clock UNIX_S] [--hostile]\n");
   return 2;
 }
 
@@ -433,6 +427,10 @@ int main(int argc, char **argv) {
   static Device d;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--hostile") {
+      d.opt.hostile = true;
+      continue;
+    }
     if (i + 1 >= argc) return usage();
     const char *v = argv[++i];
     if (a == "--log") d.opt.log_dir = v;

@@ -106,7 +106,16 @@ void bad_inputs_are_refused_with_a_reason(void **) {
       {[](pv_density_input_t &i) { i.mass_g = 0.0; }, PV_DENSITY_ERR_MASS},
       {[](pv_density_input_t &i) { i.mass_g = -5.0; }, PV_DENSITY_ERR_MASS},
       {[](pv_density_input_t &i) { i.moisture_percent = -0.1; }, PV_DENSITY_ERR_MOISTURE},
-      {[](pv_density_input_t &i) { i.moisture_percent = 501.0; }, PV_DENSITY_ERR_MOISTURE},
+      {[](pv_density_input_t &i) { i.moisture_percent = 101.0; }, PV_DENSITY_ERR_MOISTURE},
+      // Absurd masses (a board took these and logged 4e305 % compaction).
+      {[](pv_density_input_t &i) { i.mass_g = 1e308; }, PV_DENSITY_ERR_MASS},
+      {[](pv_density_input_t &i) { i.mass_g = 1e-300; }, PV_DENSITY_ERR_MASS},
+      {[](pv_density_input_t &i) { i.mass_g = 49.0; }, PV_DENSITY_ERR_MASS},
+      {[](pv_density_input_t &i) { i.mass_g = 100001.0; }, PV_DENSITY_ERR_MASS},
+      // In range alone, but no soil: 30 kg in 1.5 litres, or 0.5 kg.
+      {[](pv_density_input_t &i) { i.mass_g = 30000.0; }, PV_DENSITY_ERR_IMPLAUSIBLE},
+      {[](pv_density_input_t &i) { i.mass_g = 500.0; }, PV_DENSITY_ERR_IMPLAUSIBLE},
+      {[](pv_density_input_t &i) { i.reference_max_dry_kg_m3 = 3000.0; }, PV_DENSITY_ERR_REFERENCE},
       {[](pv_density_input_t &i) { i.reference_max_dry_kg_m3 = 1.85; }, PV_DENSITY_ERR_REFERENCE},
       {[](pv_density_input_t &i) { i.reference_max_dry_kg_m3 = INFINITY; }, PV_DENSITY_ERR_REFERENCE},
   };
@@ -121,6 +130,27 @@ void bad_inputs_are_refused_with_a_reason(void **) {
   assert_int_equal(pv_density_compute(nullptr, &d), PV_DENSITY_ERR_INVALID_ARGUMENT);
 }
 
+// The verdict against a required compaction: the worked example's
+// compaction is 96.10 % (94.21 .. 98.06) of 1850 kg/m3.
+void verdict_follows_the_compaction_range(void **) {
+  pv_density_t d;
+  pv_density_input_t in = pit();
+  assert_int_equal(pv_density_compute(&in, &d), PV_DENSITY_OK);
+  double within = -1;
+  assert_int_equal(pv_density_verdict(&d, in.volume_cm3, 94.0, &within), PV_VERDICT_PASS);
+  assert_true(within == 0.0);
+  assert_int_equal(pv_density_verdict(&d, in.volume_cm3, 98.5, &within), PV_VERDICT_FAIL);
+  assert_int_equal(pv_density_verdict(&d, in.volume_cm3, 95.0, &within), PV_VERDICT_UNDECIDED);
+  // RC = 95 % at V* = 1500 x 96.10 / 95 = 1517.5 cm3: an interval under
+  // +/- 17.5 cm3 (not 30) would decide.
+  near(within, 1500.0 * d.compaction_percent / 95.0 - 1500.0);
+  assert_int_equal(pv_density_verdict(&d, in.volume_cm3, 0.0, nullptr), PV_VERDICT_NONE);
+  in.reference_max_dry_kg_m3 = 0;  // no reference: no compaction, no verdict
+  assert_int_equal(pv_density_compute(&in, &d), PV_DENSITY_OK);
+  assert_int_equal(pv_density_verdict(&d, in.volume_cm3, 95.0, nullptr), PV_VERDICT_NONE);
+  assert_string_equal(pv_verdict_name(PV_VERDICT_UNDECIDED), "UNDECIDED");
+}
+
 }  // namespace
 
 int main() {
@@ -130,6 +160,7 @@ int main() {
       cmocka_unit_test(missing_inputs_give_what_can_be_computed),
       cmocka_unit_test(an_interval_as_wide_as_the_volume_has_no_upper_bound),
       cmocka_unit_test(bad_inputs_are_refused_with_a_reason),
+      cmocka_unit_test(verdict_follows_the_compaction_range),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

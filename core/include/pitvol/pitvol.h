@@ -196,6 +196,25 @@ typedef struct pv_point {
 #define PV_WARN_BRIDGED          (1u << 6) /* an unseen band of wall was bridged
                                               from its neighbours (see
                                               unseen_share, coverage) */
+#define PV_WARN_ALL              0x7Fu     /* every bit defined above */
+
+/* The PV_WARN_* bits in words, from one table (core/session/status.cpp)
+ * for every tool and screen: the symbolic name ("PV_WARN_BRIDGED"), a
+ * sentence that says what happened and what to do, and a short form for a
+ * line of a 320-px screen (at most 24 characters). NULL for a bit that is
+ * not defined. */
+const char *pv_warning_name(uint32_t bit);
+const char *pv_warning_message(uint32_t bit);
+const char *pv_warning_short(uint32_t bit);
+/* The bits of a result's warnings that need the user's attention; the
+ * other set bits are notes, shown as information. Never
+ * PV_WARN_POINTS_THINNED: the fixed memory thins the dense bins of every
+ * ordinary scan by design, and the accuracy figures include it. Not
+ * PV_WARN_BRIDGED while less than PV_WARN_BRIDGED_SHARE of the volume
+ * rests on unseen wall: short bridges an ordinary scan has, inside the
+ * interval. */
+#define PV_WARN_BRIDGED_SHARE 0.01
+uint32_t pv_warnings_attention(uint32_t warnings, double unseen_share);
 
 /* Wall coverage: the depth from the bottom (0) to the rim is split into
  * this many equal bands; coverage[b] is the share of band b's wall that the

@@ -1,5 +1,6 @@
 // The board's state machine (firmware/board_state.c), its configuration
 // file parser and the coverage hint, without devices.
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -12,6 +13,8 @@ extern "C" {
 #include "board_clock.h"
 #include "board_screens.h"
 #include "board_state.h"
+#include "pitvol/advice.h"
+#include "pitvol/config_fields.h"
 }
 
 #include "pv_cmocka.h"  // last: see pv_cmocka.h
@@ -144,7 +147,24 @@ void config_file_parses_and_rejects(void **) {
   assert_non_null(std::strstr(err, ":2: unknown key 'bogus'"));
   assert_int_equal(pv_board_config_set(&c, "usb_product", "70000", err, sizeof err), -1);
   assert_int_equal(pv_board_config_set(&c, "core.knn_k", "-3", err, sizeof err), -1);
+  assert_string_equal(err, "core.knn_k = -3 is outside the allowed 2 .. 32");
   assert_int_equal(pv_board_config_set(&c, "core.nope", "1", err, sizeof err), -1);
+  // One line with the key, the value and the allowed range; a decimal
+  // comma, hexadecimal and inf are refused, not read as other numbers.
+  f = std::fopen(path, "w");
+  std::fputs("units = cm3\n\ncore.layer_mm = 9\n", f);
+  std::fclose(f);
+  assert_int_equal(pv_board_config_load(&c, path, err, sizeof err), -1);
+  assert_non_null(std::strstr(err, "test_board_config.conf:3: core.layer_mm = 9 is outside the allowed 0.1 .. 2"));
+  assert_null(std::strchr(err, '\n'));
+  assert_int_equal(pv_board_config_set(&c, "core.layer_mm", "0,5", err, sizeof err), -1);
+  assert_non_null(std::strstr(err, "write decimals with a point"));
+  assert_int_equal(pv_board_config_set(&c, "core.layer_mm", "0x1", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "core.max_unseen_share", "inf", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "core.knn_k", "8.5", err, sizeof err), -1);
+  assert_non_null(std::strstr(err, "not a whole number (allowed: 2 .. 32)"));
+  assert_int_equal(pv_board_config_set(&c, "units", "m3", err, sizeof err), -1);
+  assert_string_equal(err, "units = m3 must be cm3 or l");
   c.core.layer_mm = 50.0f;  // out of the core's range
   assert_int_equal(pv_board_config_check(&c, err, sizeof err), -1);
   assert_non_null(std::strstr(err, "core.layer_mm"));
@@ -157,22 +177,81 @@ void coverage_hint_names_the_widest_unseen_band(void **) {
   r.coverage_bands = PV_COVERAGE_BANDS;
   for (float &c : r.coverage) c = 0.9f;
   char l1[64], l2[64];
-  assert_int_equal(pv_board_coverage_hint(&r, PV_OK, l1, sizeof l1, l2, sizeof l2), 0);
+  assert_int_equal(pv_advice_live(&r, PV_OK, l1, sizeof l1, l2, sizeof l2), 0);
   r.coverage[1] = 0.2f;                     // 10-20 mm
   r.coverage[3] = r.coverage[4] = 0.1f;     // 30-50 mm: wider, wins
-  assert_int_equal(pv_board_coverage_hint(&r, PV_OK, l1, sizeof l1, l2, sizeof l2), 1);
+  assert_int_equal(pv_advice_live(&r, PV_OK, l1, sizeof l1, l2, sizeof l2), 1);
   assert_string_equal(l1, "wall 30-50 mm not seen");
   assert_string_equal(l2, "tilt into the pit");
   for (float &c : r.coverage) c = 0.9f;
   r.coverage[15] = 0.0f;  // under the rim
-  pv_board_coverage_hint(&r, PV_OK, l1, sizeof l1, l2, sizeof l2);
+  pv_advice_live(&r, PV_OK, l1, sizeof l1, l2, sizeof l2);
   assert_string_equal(l1, "wall 150-160 mm not seen");
   assert_string_equal(l2, "aim at the upper wall");
+  // Amber bands (seen, but under 80 %) are a hint too, not "wall seen: STOP".
+  for (float &c : r.coverage) c = 0.9f;
+  r.coverage[6] = r.coverage[7] = 0.6f;
+  assert_int_equal(pv_advice_live(&r, PV_OK, l1, sizeof l1, l2, sizeof l2), 1);
+  assert_string_equal(l1, "wall 60-80 mm thin");
+  assert_string_equal(l2, "tilt into the pit");
   // The core's own gap wins when it refuses for it.
   r.gap_from_mm = 55;
   r.gap_to_mm = 90;
-  pv_board_coverage_hint(&r, PV_ERR_WALL_GAP, l1, sizeof l1, l2, sizeof l2);
+  pv_advice_live(&r, PV_ERR_WALL_GAP, l1, sizeof l1, l2, sizeof l2);
   assert_string_equal(l1, "wall 55-90 mm not seen");
+}
+
+// Every warning bit has its name, sentence and screen form in the core's
+// one table; the screen form fits a 320-px line with its "! " or "note: ".
+void warning_table_is_complete(void **) {
+  for (uint32_t bit = 1; bit <= PV_WARN_ALL; bit <<= 1) {
+    assert_non_null(pv_warning_name(bit));
+    assert_non_null(pv_warning_message(bit));
+    assert_non_null(pv_warning_short(bit));
+    assert_true(std::strlen(pv_warning_short(bit)) <= 24);
+  }
+  assert_null(pv_warning_name(PV_WARN_ALL + 1));
+  // Thinning is never a warning; a bridge is one from 1 % of the volume.
+  assert_int_equal(pv_warnings_attention(PV_WARN_POINTS_THINNED, 0.5), 0u);
+  assert_int_equal(pv_warnings_attention(PV_WARN_BRIDGED, 0.009), 0u);
+  assert_int_equal(pv_warnings_attention(PV_WARN_BRIDGED, 0.01), PV_WARN_BRIDGED);
+  assert_int_equal(pv_warnings_attention(PV_WARN_LARGE_TILT, 0), PV_WARN_LARGE_TILT);
+}
+
+// The table of settings agrees with pv_config_validate(): each field's
+// ends are accepted, a step beyond each is refused, by the core itself.
+void config_ranges_are_the_cores(void **) {
+  for (size_t i = 0; i < pv_config_field_count; ++i) {
+    const pv_config_field_t &f = pv_config_fields[i];
+    for (int end = 0; end < 2; ++end) {
+      for (int beyond = 0; beyond < 2; ++beyond) {
+        pv_config_t cfg;
+        pv_config_default(&cfg);
+        double v = end ? f.max : f.min;
+        const double step = f.is_float ? std::fmax(1e-3, std::fabs(v) * 1e-3) : 1.0;
+        if (beyond) v += end ? step : -step;
+        if (!f.is_float && v < 0) continue;  // an unsigned field has no value below 0
+        char *base = reinterpret_cast<char *>(&cfg) + f.offset;
+        if (f.is_float) {
+          const float x = float(v);
+          std::memcpy(base, &x, sizeof x);
+        } else {
+          const uint32_t x = uint32_t(v);
+          std::memcpy(base, &x, sizeof x);
+        }
+        if (std::strcmp(f.name, "points_per_layer") == 0 || std::strcmp(f.name, "max_layers") == 0) {
+          cfg.max_layers = std::strcmp(f.name, "max_layers") == 0 ? cfg.max_layers : 64;
+          cfg.points_per_layer = std::strcmp(f.name, "points_per_layer") == 0 ? cfg.points_per_layer : 64;
+        }
+        const char *bad = nullptr;
+        const bool ok = pv_config_validate(&cfg, &bad) == PV_OK;
+        if (ok == bool(beyond)) {
+          std::fprintf(stderr, "%s = %.9g: core says %s\n", f.name, v, ok ? "ok" : bad);
+          fail();
+        }
+      }
+    }
+  }
 }
 
 // A board clock that was never set reads 1970: its results carry time 0
@@ -218,11 +297,19 @@ void screens_say_what_matters(void **) {
   m.result.interval_cm3 = 12.34;
   m.result.depth_mm = 297.37;
   m.result.warnings = PV_WARN_BRIDGED | PV_WARN_POINTS_THINNED;
+  m.result.unseen_share = 0.049;
   std::string t = screen_text(m);
   assert_true(has(t, "|11712.8\n"));
   assert_true(has(t, "|\xC2\xB1 12.3 cm\xC2\xB3\n"));
   assert_true(has(t, "|! unseen wall bridged\n"));
-  assert_true(has(t, "|dense layers thinned\n"));
+  assert_true(has(t, "|note: dense bins thinned\n"));
+  // An ordinary scan: thinned by design and a short bridge (0.4 % of the
+  // volume) are notes, not warnings; the title stays green.
+  m.result.unseen_share = 0.004;
+  t = screen_text(m);
+  assert_true(has(t, "|no warnings\n"));
+  assert_true(has(t, "|note: unseen wall bridged\n"));
+  assert_true(t.find("|! ") == std::string::npos);
   assert_true(has(t, "result volume_cm3=11712.84 "));
   t = screen_text(m, PV_UNITS_LITRE);
   assert_true(has(t, "|11.713\n"));
@@ -231,8 +318,21 @@ void screens_say_what_matters(void **) {
   m.result_status = PV_ERR_WALL_GAP;
   m.result.gap_from_mm = 55;
   m.result.gap_to_mm = 90;
+  m.result.depth_mm = 297;
+  m.result.points_in = 150000;
   t = screen_text(m);
   assert_true(has(t, "|wall 55-90 mm not seen\n"));
+  assert_true(has(t, "|rescan: tilt into the pit\n"));
+  // The whole wall "unseen" on a 5,837-point scan: too few points, not a band.
+  m.result.gap_from_mm = 0;
+  m.result.gap_to_mm = 297;
+  m.result.points_in = 5837;
+  t = screen_text(m);
+  assert_true(has(t, "|too few points (5 837)\n"));
+  assert_true(has(t, "|rescan slowly, all round\n"));
+  assert_true(t.find("tilt into") == std::string::npos);
+  m.result.points_in = 150000;  // many points, but the gap is the whole wall
+  assert_true(has(screen_text(m), "|too few points (150 000)\n"));
   assert_true(has(t, "refused status=PV_ERR_WALL_GAP"));
   assert_true(t.find("11712") == std::string::npos);  // a refusal shows no number
 
@@ -253,7 +353,9 @@ void screens_say_what_matters(void **) {
   m.result.check_limit = 315;
   assert_true(has(screen_text(m), "|wider than 630 mm\n"));
   m.result.failed_check = PV_PIT_CHECK_OPENING_TILT;
-  assert_true(has(screen_text(m), "|opening faces away\n"));
+  t = screen_text(m);
+  assert_true(has(t, "|opening faces away\n"));
+  assert_true(has(t, "|rescan from above the pit\n"));
   m.result.failed_check = PV_PIT_CHECK_NO_POINTS;
   assert_true(has(screen_text(m), "|does not look like a pit\n"));
   // A scan that holds the pit twice: a rescan in one pass, not "alone".
@@ -282,6 +384,14 @@ void screens_say_what_matters(void **) {
   assert_true(has(t, "|points 123 456\n"));
   assert_true(has(t, "|wall 20-30 mm not seen\n"));
   assert_true(has(t, "coverage 1.00 1.00 0.10 1.00"));
+  // Two amber bands: no STOP yet, the thin band named; all green: STOP.
+  m.live.coverage[2] = 1.0f;
+  m.live.coverage[9] = m.live.coverage[10] = 0.7f;
+  t = screen_text(m);
+  assert_true(has(t, "|wall 90-110 mm thin\n"));
+  assert_true(t.find("wall seen: STOP") == std::string::npos);
+  m.live.coverage[9] = m.live.coverage[10] = 0.95f;
+  assert_true(has(screen_text(m), "|wall seen: STOP\n"));
 
   m.state = PV_BOARD_PAUSED;
   t = screen_text(m);
@@ -322,6 +432,7 @@ void result_screen_shows_density(void **) {
   m.result.interval_cm3 = 30;
   m.result.depth_mm = 150;
   m.result.warnings = PV_WARN_BRIDGED;
+  m.result.unseen_share = 0.05;
   pv_density_input_t in{};
   in.volume_cm3 = 1525;
   in.interval_cm3 = 30;
@@ -376,9 +487,13 @@ void link_config_keys(void **) {
   assert_true(c.max_dry_density_kg_m3 == 1850.0);
   assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "0", err, sizeof err), 0);
   assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "185", err, sizeof err), -1);
-  assert_non_null(std::strstr(err, "500 .. 3500"));
+  assert_non_null(std::strstr(err, "1000 .. 2800 kg/m3"));
+  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "1,85", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "0x700", err, sizeof err), -1);
   assert_int_equal(pv_board_config_set(&c, "device_id", "PV-0001", err, sizeof err), 0);
   assert_int_equal(pv_board_config_set(&c, "device_id", "a-device-id-of-thirty-characters", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "device_id", "PV\x1b[2J", err, sizeof err), -1);
+  assert_non_null(std::strstr(err, "control character"));
 }
 
 }  // namespace
@@ -395,6 +510,8 @@ int main() {
       cmocka_unit_test(failed_start_returns_to_rest),
       cmocka_unit_test(config_file_parses_and_rejects),
       cmocka_unit_test(coverage_hint_names_the_widest_unseen_band),
+      cmocka_unit_test(warning_table_is_complete),
+      cmocka_unit_test(config_ranges_are_the_cores),
       cmocka_unit_test(result_time_is_zero_for_an_unset_clock),
       cmocka_unit_test(screens_say_what_matters),
       cmocka_unit_test(result_screen_shows_density),

@@ -35,19 +35,33 @@ extern "C" {
 #define PV_DENSITY_COMPACTION (1u << 2) /* compaction_* valid (a reference too) */
 #define PV_DENSITY_UNBOUNDED  (1u << 3) /* interval >= volume: no upper bounds */
 
-/* Accepted ranges of the inputs. */
-#define PV_DENSITY_MAX_MOISTURE_PERCENT 500.0
-#define PV_DENSITY_MIN_REFERENCE_KG_M3 500.0
-#define PV_DENSITY_MAX_REFERENCE_KG_M3 3500.0
+/* Plausible ranges of the inputs (docs/density.md): a value outside is a
+ * typing or unit mistake, refused rather than carried into the log. A
+ * test pit holds a few hundred grams to a few tens of kilograms of soil;
+ * field soils hold 0 to 100 % water (of their dry mass); Proctor maximum
+ * dry densities lie between about 1.1 and 2.5 g/cm3; specifications ask
+ * for 85 to 100 % compaction. pitvol-report checks the same numbers
+ * (tests/report reads them from here). */
+#define PV_DENSITY_MIN_MASS_G 50.0
+#define PV_DENSITY_MAX_MASS_G 100000.0
+#define PV_DENSITY_MAX_MOISTURE_PERCENT 100.0
+#define PV_DENSITY_MIN_REFERENCE_KG_M3 1000.0
+#define PV_DENSITY_MAX_REFERENCE_KG_M3 2800.0
+#define PV_DENSITY_MIN_REQUIRED_PERCENT 50.0
+#define PV_DENSITY_MAX_REQUIRED_PERCENT 110.0
+/* The wet density a soil can have: mass over volume outside this is a
+ * mass in the wrong unit or of another pit (PV_DENSITY_ERR_IMPLAUSIBLE). */
+#define PV_DENSITY_MIN_WET_KG_M3 800.0
+#define PV_DENSITY_MAX_WET_KG_M3 3000.0
 
 typedef struct pv_density_input {
   double volume_cm3;        /* > 0, the measured pit volume */
   double interval_cm3;      /* >= 0, the volume's +/- interval */
   int has_mass;
-  double mass_g;            /* > 0: wet mass of the excavated soil */
+  double mass_g;            /* 50 .. 100000: wet mass of the excavated soil */
   int has_moisture;
-  double moisture_percent;  /* 0 .. 500: water content, % of dry mass */
-  double reference_max_dry_kg_m3; /* 0: none; else 500 .. 3500 */
+  double moisture_percent;  /* 0 .. 100: water content, % of dry mass */
+  double reference_max_dry_kg_m3; /* 0: none; else 1000 .. 2800 */
 } pv_density_input_t;
 
 typedef struct pv_density {
@@ -61,9 +75,10 @@ typedef enum pv_density_status {
   PV_DENSITY_OK = 0,
   PV_DENSITY_ERR_INVALID_ARGUMENT = 1, /* NULL pointer */
   PV_DENSITY_ERR_VOLUME = 2,    /* volume not > 0 or interval < 0 (or not finite) */
-  PV_DENSITY_ERR_MASS = 3,      /* mass not > 0 */
-  PV_DENSITY_ERR_MOISTURE = 4,  /* moisture outside 0 .. 500 % */
-  PV_DENSITY_ERR_REFERENCE = 5  /* reference max dry density outside 500 .. 3500 kg/m3 */
+  PV_DENSITY_ERR_MASS = 3,      /* mass outside 50 .. 100000 g */
+  PV_DENSITY_ERR_MOISTURE = 4,  /* moisture outside 0 .. 100 % */
+  PV_DENSITY_ERR_REFERENCE = 5, /* reference max dry density outside 1000 .. 2800 kg/m3 */
+  PV_DENSITY_ERR_IMPLAUSIBLE = 6 /* mass / volume outside 800 .. 3000 kg/m3 */
 } pv_density_status_t;
 
 const char *pv_density_status_name(pv_density_status_t status);
@@ -73,6 +88,23 @@ const char *pv_density_status_message(pv_density_status_t status);
 /* Without a mass: PV_DENSITY_OK with flags 0 (nothing to compute). On an
  * error *out is all zero. */
 pv_density_status_t pv_density_compute(const pv_density_input_t *in, pv_density_t *out);
+
+/* The test's verdict against a required relative compaction: PASS when
+ * the whole compaction range (the volume interval's image) reaches the
+ * requirement, FAIL when none of it does, UNDECIDED when the range
+ * straddles it. NONE without a compaction or a requirement. */
+typedef enum pv_verdict {
+  PV_VERDICT_NONE = 0,
+  PV_VERDICT_PASS = 1,
+  PV_VERDICT_FAIL = 2,
+  PV_VERDICT_UNDECIDED = 3
+} pv_verdict_t;
+/* decides_within_cm3 (may be NULL): for UNDECIDED, the volume interval
+ * (+/-) under which this measurement would decide: |V - V*| with V* the
+ * volume at which the compaction equals the requirement; 0 otherwise. */
+pv_verdict_t pv_density_verdict(const pv_density_t *d, double volume_cm3, double required_percent,
+                                double *decides_within_cm3);
+const char *pv_verdict_name(pv_verdict_t v); /* "PASS", "FAIL", "UNDECIDED", "" */
 
 /* Unit helpers for screens and reports. */
 double pv_density_kg_m3_to_g_cm3(double kg_m3);
