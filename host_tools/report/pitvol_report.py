@@ -23,6 +23,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
@@ -56,19 +57,42 @@ RESULT_ROWS = [
     ("points_used", "Points used", "{:d}", ""),
 ]
 
+# A page an office files: A4 portrait, the data sheet first, the
+# project's units (mm, cm³, g, kg/m³, %) throughout.
 CSS = """
-body { font-family: sans-serif; margin: 2em auto; max-width: 1100px; color: #212121; }
-h1 { font-size: 1.5em; margin-bottom: 0.2em; }
+@page { size: A4 portrait; margin: 15mm; }
+body { font-family: "DejaVu Sans", sans-serif; margin: 1.5em auto; max-width: 180mm; color: #212121;
+       font-size: 10.5pt; }
+h1 { font-size: 1.45em; margin: 0 0 0.1em 0; border-bottom: 2px solid #212121; padding-bottom: 0.2em; }
+h2 { font-size: 1.15em; margin-top: 1.4em; border-bottom: 1px solid #9e9e9e; }
+.sub { color: #616161; margin-top: 0.2em; }
 .file { color: #616161; font-family: monospace; }
+table.sheet { border-collapse: collapse; width: 100%; margin: 0.8em 0; }
+table.sheet th, table.sheet td { border: 1px solid #757575; padding: 4px 8px; text-align: left;
+                                 vertical-align: top; }
+table.sheet th { width: 42%; font-weight: normal; background: #fafafa; }
+table.sheet tr.group th { background: #e0e0e0; font-weight: bold; }
+.range { color: #424242; }
+.blank { color: #9e9e9e; }
+.verdict { font-size: 1.3em; padding: 0 0.4em; }
+.verdict.pass { color: #1b5e20; border: 2px solid #1b5e20; }
+.verdict.fail { color: #b71c1c; border: 2px solid #b71c1c; }
+.verdict.undecided { color: #e65100; border: 2px solid #e65100; }
+.decide { font-size: 0.9em; }
+table.sign { width: 100%; margin: 1.2em 0 0.4em 0; border-collapse: collapse; }
+table.sign td { width: 50%; padding: 2px 8px; }
+table.sign tr.line td { height: 2.2em; border-bottom: 1px solid #212121; }
+.small { font-size: 0.8em; color: #616161; }
 table.result { border-collapse: collapse; margin: 1em 0; }
-table.result td, table.result th { border-bottom: 1px solid #e0e0e0; padding: 4px 12px; text-align: left; }
-.big { font-size: 1.6em; font-weight: bold; }
+table.result td, table.result th { border-bottom: 1px solid #e0e0e0; padding: 3px 10px; text-align: left; }
+.big { font-size: 1.4em; font-weight: bold; }
 .refused { background: #ffebee; border: 1px solid #c62828; padding: 0.8em; }
 .warn { color: #e65100; }
-figure { margin: 1.5em 0; }
+figure { margin: 1.2em 0; page-break-inside: avoid; }
 figure img { max-width: 100%; border: 1px solid #eeeeee; }
 figcaption { color: #424242; font-size: 0.9em; }
 .note { color: #757575; font-style: italic; }
+@media print { body { margin: 0; max-width: none; } #sheet { page-break-after: always; } }
 """
 
 CAPTIONS = {
@@ -80,6 +104,9 @@ CAPTIONS = {
     "coverage": "Every wall bin of the surface model by angle around the pit's axis and "
                 "height: green seen, orange not seen (bridged, counted in the interval); right: "
                 "the share seen per height band, as in the result's coverage.",
+    "pit3d": "The reconstructed pit: the surface model's wall around its axis (blue where the "
+             "scan saw it, orange where it was bridged from the wall around it and counted in "
+             "the interval) over the floor at z = 0, from the floor plane to the rim.",
     "side": "The levelled cloud seen from the side (x and y through the axis): the floor plane "
             "at z = 0, the rim the volume stops at, and the fitted wall in that plane.",
 }
@@ -185,9 +212,10 @@ def png_base64(fig):
     return base64.b64encode(buf.getvalue()).decode("ascii")
 
 
-def density(result, mass_g, moisture):
-    """Wet and dry density, kg/m3, with the range of the volume interval
-    (docs/density.md): low at V + dV, high at V - dV (None: unbounded)."""
+def density(result, mass_g, moisture, max_dry=None):
+    """Wet and dry density, kg/m3, and the relative compaction, %, with the
+    range of the volume interval (docs/density.md): low at V + dV, high at
+    V - dV (None: unbounded). As firmware/density/density.c computes them."""
     v, dv = result.get("volume_cm3"), result.get("interval_cm3") or 0.0
     if mass_g is None or not v:
         return None
@@ -196,8 +224,29 @@ def density(result, mass_g, moisture):
         return f / v * 1000.0, f / (v + dv) * 1000.0, hi
     out = {"wet": rng(mass_g)}
     if moisture is not None:
-        out["dry"] = rng(mass_g / (1.0 + moisture / 100.0))
+        dry_mass = mass_g / (1.0 + moisture / 100.0)
+        out["dry"] = rng(dry_mass)
+        if max_dry:
+            mid, lo, hi = out["dry"]
+            out["compaction"] = (mid / max_dry * 100.0, lo / max_dry * 100.0,
+                                 hi / max_dry * 100.0 if hi is not None else None)
     return out
+
+
+def verdict(dens, volume, required):
+    """PASS when the whole compaction range reaches the requirement, FAIL
+    when none of it does, UNDECIDED when it straddles it (then also the
+    volume interval under which this measurement would decide: |V - V*|,
+    V* the volume at which the compaction equals the requirement), as
+    pv_density_verdict() does. None without a compaction or requirement."""
+    if not dens or "compaction" not in dens or not required:
+        return None, None
+    mid, lo, hi = dens["compaction"]
+    if lo >= required:
+        return "PASS", None
+    if hi is not None and hi < required:
+        return "FAIL", None
+    return "UNDECIDED", abs(volume - volume * mid / required)
 
 
 def result_block(ex, dens, mass_g, moisture):
@@ -227,16 +276,6 @@ def result_block(ex, dens, mass_g, moisture):
     if r.get("gap_to_mm"):
         parts.append(f'<tr><th>Widest unseen band</th><td>{r["gap_from_mm"]:.0f} to '
                      f'{r["gap_to_mm"]:.0f} mm</td></tr>')
-    if dens:
-        for kind, label in (("wet", "Wet density"), ("dry", "Dry density")):
-            if kind not in dens:
-                continue
-            mid, lo, hi = dens[kind]
-            hi_t = f"{hi:.0f}" if hi is not None else "?"
-            parts.append(f'<tr><th>{label}</th><td data-key="{kind}_density_kg_m3" '
-                         f'data-value="{mid!r}">{mid:.0f} kg/m³ ({lo:.0f} .. {hi_t})</td></tr>')
-        src = f"{mass_g:g} g" + (f", moisture {moisture:g} %" if moisture is not None else "")
-        parts.append(f"<tr><th>Density from</th><td>{e(src)}</td></tr>")
     parts.append("</table>")
     warnings = r.get("warnings") or []
     if warnings:
@@ -253,10 +292,93 @@ def result_block(ex, dens, mass_g, moisture):
     return "\n".join(parts)
 
 
-def render_html(ex, figs, dens, mass_g, moisture):
+def cell(key, value, text):
+    """A data-sheet value cell: the exact value for tests, the text to read."""
+    e = html.escape
+    return f'<td data-key="{e(key)}" data-value="{e(value)}">{text}</td>'
+
+
+def fmt_range(t, unit, digits):
+    mid, lo, hi = t
+    hi_t = f"{hi:.{digits}f}" if hi is not None else "?"
+    return f"{mid:.{digits}f} {unit} <span class=\"range\">({lo:.{digits}f} .. {hi_t})</span>"
+
+
+def data_sheet(ex, dens, rec):
+    """The field density test's record, as the sand-cone data sheet has it:
+    who, where, when, the inputs, the volume, the densities, the relative
+    compaction with its range, and the verdict."""
     e = html.escape
     r = ex.result
-    body = [f"<h1>Test pit scan report</h1>",
+    dash = "—"
+    rows = []
+
+    def row(label, key, value, text):
+        rows.append(f"<tr><th>{e(label)}</th>{cell(key, value, text)}</tr>")
+
+    def words(label, key, v):
+        row(label, key, v or "", e(v) if v else f'<span class="blank">{dash}</span>')
+
+    rows.append('<tr class="group"><th colspan="2">Test</th></tr>')
+    words("Test number", "test_id", rec["test_id"])
+    words("Location (station, offset, lift)", "location", rec["location"])
+    words("Operator", "operator", rec["operator"])
+    row("Date and time of the scan", "scan_time", rec["scan_time"], e(rec["scan_time"]))
+    instrument = f'pitvol {r.get("pitvol_version", "")}, method {r.get("method", "")}'
+    row("Instrument", "instrument", instrument, e(instrument))
+    row("Scan file", "file", str(r.get("file", "")), f'<span class="file">{e(os.path.basename(str(r.get("file", ""))))}</span>')
+    rows.append('<tr class="group"><th colspan="2">Inputs</th></tr>')
+    m, w = rec["mass_g"], rec["moisture"]
+    row("Wet mass of the excavated soil", "mass_g", repr(m) if m is not None else "",
+        f"{m:.1f} g" if m is not None else f'<span class="blank">{dash}</span>')
+    row("Moisture content (of the dry mass)", "moisture_percent", repr(w) if w is not None else "",
+        f"{w:.1f} %" if w is not None else f'<span class="blank">{dash}</span>')
+    md, rq = rec["max_dry"], rec["required"]
+    row("Maximum dry density (Proctor)", "max_dry_density_kg_m3", repr(md) if md else "",
+        f"{md:.0f} kg/m³" if md else f'<span class="blank">{dash}</span>')
+    row("Required relative compaction", "required_compaction_percent", repr(rq) if rq else "",
+        f"{rq:.1f} %" if rq else f'<span class="blank">{dash}</span>')
+    rows.append('<tr class="group"><th colspan="2">Results</th></tr>')
+    if ex.measured:
+        row("Volume of the test pit", "sheet_volume_cm3", repr(r["volume_cm3"]),
+            f'{r["volume_cm3"]:.1f} ± {r["interval_cm3"]:.1f} cm³')
+    else:
+        row("Volume of the test pit", "sheet_volume_cm3", "null", f"none: {e(str(r.get('status')))}")
+    for kind, label, unit, digits in (("wet", "Wet density", "kg/m³", 0), ("dry", "Dry density", "kg/m³", 0),
+                                      ("compaction", "Relative compaction", "%", 1)):
+        t = (dens or {}).get(kind)
+        key = {"wet": "wet_density_kg_m3", "dry": "dry_density_kg_m3",
+               "compaction": "compaction_percent"}[kind]
+        row(label, key, repr(t[0]) if t else "",
+            fmt_range(t, unit, digits) if t else f'<span class="blank">{dash}</span>')
+    v, within = verdict(dens, r.get("volume_cm3"), rq)
+    if v is None:
+        why = ("no volume" if not ex.measured else "needs --mass-g, --moisture-percent, "
+               "--max-dry-density-kg-m3 and --required-compaction-percent")
+        row("Verdict", "verdict", "", f'<span class="blank">{dash} ({e(why)})</span>')
+    else:
+        text = f'<b class="verdict {v.lower()}">{v}</b>'
+        if v == "UNDECIDED":
+            text += (f'<br><span class="decide">The compaction range straddles {rq:.1f} %: a volume '
+                     f'interval under ± {within:.1f} cm³ (now ± {r["interval_cm3"]:.1f}) would '
+                     f'decide. Rescan the wall that was not seen to narrow it, or dig and weigh '
+                     f'the test again.</span>')
+        row("Verdict", "verdict", v, text)
+    sign = ('<table class="sign"><tr><td>Tested by</td><td>Checked by</td></tr>'
+            '<tr class="line"><td></td><td></td></tr>'
+            '<tr><td class="small">name, signature, date</td><td class="small">name, signature, '
+            'date</td></tr></table>')
+    return ('<table class="sheet">' + "\n".join(rows) + "</table>" + sign)
+
+
+def render_html(ex, figs, dens, mass_g, moisture, rec):
+    e = html.escape
+    r = ex.result
+    body = ['<h1>Field density test: data sheet</h1>',
+            '<p class="sub">In-place density by scanned test pit volume (pitvol); the '
+            'volume interval carried into every density</p>',
+            '<section id="sheet">', data_sheet(ex, dens, rec), "</section>",
+            '<h2>Measurement</h2>',
             f'<p class="file">{e(str(r.get("file", "")))} &middot; pitvol '
             f'{e(str(r.get("pitvol_version", "")))} &middot; units {e(str(r.get("units", "")))}</p>',
             '<section id="result">', result_block(ex, dens, mass_g, moisture), "</section>"]
@@ -274,37 +396,76 @@ def render_html(ex, figs, dens, mass_g, moisture):
             f"<style>{CSS}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")
 
 
-def write_pdf(path, ex, figs, dens):
+def write_pdf(path, ex, figs, dens, rec):
+    """Page 1 the data sheet (and the measurement's lines), then a page per
+    figure. Long lines wrap at the page's width."""
     from matplotlib.backends.backend_pdf import PdfPages
     import matplotlib.pyplot as plt
+    import textwrap
     r = ex.result
+
+    def rng(t, digits):
+        if not t:
+            return "-"
+        mid, lo, hi = t
+        return f"{mid:.{digits}f} ({lo:.{digits}f} .. {'?' if hi is None else f'{hi:.{digits}f}'})"
+    def opt(x, f):
+        return "-" if x is None else f.format(x)
+    v, within = verdict(dens, r.get("volume_cm3"), rec["required"])
+    lines = ["FIELD DENSITY TEST: DATA SHEET", "",
+             f"Test number:            {rec['test_id'] or '-'}",
+             f"Location:               {rec['location'] or '-'}",
+             f"Operator:               {rec['operator'] or '-'}",
+             f"Date and time of scan:  {rec['scan_time']}",
+             f"Instrument:             pitvol {r.get('pitvol_version', '')}, method {r.get('method', '')}",
+             f"Scan file:              {os.path.basename(str(r.get('file', '')))}", "",
+             "Wet mass:               " + opt(rec["mass_g"], "{:.1f} g"),
+             "Moisture content:       " + opt(rec["moisture"], "{:.1f} %"),
+             "Max dry density:        " + opt(rec["max_dry"], "{:.0f} kg/m3"),
+             "Required compaction:    " + opt(rec["required"], "{:.1f} %"),
+             ""]
+    if ex.measured:
+        lines.append(f"Volume:                 {r['volume_cm3']:.1f} +/- {r['interval_cm3']:.1f} cm3")
+    else:
+        lines.append(f"Volume:                 none ({r.get('status')})")
+        lines += textwrap.wrap(str(r.get("advice") or r.get("message", "")), 84)
+    lines += [f"Wet density:            {rng((dens or {}).get('wet'), 0)} kg/m3",
+              f"Dry density:            {rng((dens or {}).get('dry'), 0)} kg/m3",
+              f"Relative compaction:    {rng((dens or {}).get('compaction'), 1)} %",
+              f"Verdict:                {v or '-'}"]
+    if v == "UNDECIDED":
+        lines += textwrap.wrap(f"A volume interval under +/- {within:.1f} cm3 (now +/- "
+                               f"{r['interval_cm3']:.1f}) would decide: rescan the unseen wall, "
+                               "or dig and weigh the test again.", 84)
+    lines += ["", "Measurement:"]
+    for key, label, fmt, unit in RESULT_ROWS:
+        val = r.get(key)
+        lines.append(f"  {row_label(r, key, label)}:  " + ("-" if val is None else fmt.format(val) + f" {unit}"))
+    for w in r.get("warnings") or []:
+        lines += textwrap.wrap(f"Warning: {w}", 84, subsequent_indent="  ")
+    for n in r.get("notes") or []:
+        lines += textwrap.wrap(f"Note: {n}", 84, subsequent_indent="  ")
+    lines += ["", "", "Tested by: ______________________    Checked by: ______________________"]
     with PdfPages(path, metadata={"Creator": "pitvol-report", "CreationDate": None}) as pdf:
         page = plt.figure(figsize=(8.27, 11.69))  # A4
-        lines = ["Test pit scan report", str(r.get("file", "")), ""]
-        if ex.measured:
-            lines.append(f"Volume  {r['volume_cm3']:.1f} +/- {r['interval_cm3']:.1f} cm3")
-        else:
-            lines.append(f"No measurement: {r.get('status')}")
-            lines.append(str(r.get("advice") or r.get("message", "")))
-        for key, label, fmt, unit in RESULT_ROWS:
-            v = r.get(key)
-            lines.append(f"{row_label(r, key, label)}:  " +
-                         ("-" if v is None else fmt.format(v) + f" {unit}"))
-        lines.append(f"Method:  {r.get('method')}")
-        if dens:
-            for kind in ("wet", "dry"):
-                if kind in dens:
-                    lines.append(f"{kind.capitalize()} density:  {dens[kind][0]:.0f} kg/m3")
-        for w in r.get("warnings") or []:
-            lines.append(f"Warning: {w}")
-        for n in r.get("notes") or []:
-            lines.append(f"Note: {n}")
-        page.text(0.08, 0.95, "\n".join(lines), va="top", family="monospace", fontsize=10)
+        page.text(0.07, 0.96, "\n".join(lines), va="top", family="monospace", fontsize=9)
         pdf.savefig(page)
         plt.close(page)
         for _, _, fig in figs:
             if fig is not None:
                 pdf.savefig(fig)
+
+
+def scan_time(ex, source):
+    """When the scan was made, as the files know it: the scan file's
+    modification time (the scanner writes it once), else the clock."""
+    for path in (str(ex.result.get("file", "")), source):
+        if path and os.path.isfile(path):
+            t = os.path.getmtime(path)
+            break
+    else:
+        t = time.time()
+    return time.strftime("%Y-%m-%d %H:%M", time.localtime(t))
 
 
 def find_pitvol(explicit):
@@ -326,6 +487,21 @@ def main(argv):
                     help="wet mass of the excavated soil, g (50 .. 100000): density")
     ap.add_argument("--moisture-percent", type=typed_number("moisture-percent"),
                     help="water content, %% of the dry mass (0 .. 100)")
+    ap.add_argument("--max-dry-density-kg-m3", type=typed_number("max-dry-density-kg-m3"),
+                    help="the material's Proctor maximum dry density, kg/m3 (1000 .. 2800): "
+                         "relative compaction")
+    ap.add_argument("--required-compaction-percent", type=typed_number("required-compaction-percent"),
+                    help="the relative compaction the specification requires, %% (50 .. 110): "
+                         "the verdict PASS, FAIL or UNDECIDED")
+    ap.add_argument("--test-id", type=record_text("--test-id", 40), default="",
+                    help="the test number on the data sheet")
+    ap.add_argument("--location", type=record_text("--location", 80), default="",
+                    help="where the test was dug: station, offset, lift")
+    ap.add_argument("--operator", type=record_text("--operator", 60), default="",
+                    help="who ran the test")
+    ap.add_argument("--scan-time", type=record_text("--scan-time", 40),
+                    help="date and time of the scan on the data sheet (default: the scan "
+                         "file's modification time, local time; else the clock)")
     ap.epilog = "options after -- go to pitvol measure (e.g. -- --units m --method paper)"
     # Split at "--" here: argparse would take the first option after it as
     # the source's neighbour and refuse it.
@@ -360,12 +536,17 @@ def main(argv):
             ex = report_data.Export(export_dir)
         except report_data.ExportError as err:
             fail(3, str(err))
-        dens = density(ex.result, a.mass_g, a.moisture_percent) if ex.measured else None
+        dens = (density(ex.result, a.mass_g, a.moisture_percent, a.max_dry_density_kg_m3)
+                if ex.measured else None)
+        rec = {"test_id": a.test_id, "location": a.location, "operator": a.operator,
+               "scan_time": a.scan_time or scan_time(ex, a.source), "mass_g": a.mass_g,
+               "moisture": a.moisture_percent, "max_dry": a.max_dry_density_kg_m3,
+               "required": a.required_compaction_percent}
         figs = report_plots.all_figures(ex)
-        page = render_html(ex, figs, dens, a.mass_g, a.moisture_percent)
+        page = render_html(ex, figs, dens, a.mass_g, a.moisture_percent, rec)
         write_atomic(a.out, lambda f: f.write(page))
         if a.pdf:
-            write_atomic(a.pdf, lambda f: write_pdf(f, ex, figs, dens), binary=True)
+            write_atomic(a.pdf, lambda f: write_pdf(f, ex, figs, dens, rec), binary=True)
         report_plots.close(figs)
     finally:
         if tmp:

@@ -208,9 +208,74 @@ def _section(ax, ex, angle_deg):
     ax.plot(r1, zs, "-", color="#e65100", lw=1.2)
 
 
+def surface_3d(ex):
+    """The reconstructed pit in 3D: the surface model's wall (seen wall
+    blue, wall bridged over a gap orange, floor-bounded bins brown) over a
+    floor disc at z = 0; the per-layer methods' kept layer outlines are
+    not a surface, so their page shows the levelled points instead."""
+    from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the projection)
+    fig = plt.figure(figsize=(7.0, 5.6))
+    ax = fig.add_subplot(projection="3d")
+    if ex.wall:
+        g = ex.model["wall_grid"]
+        T, Z = g["theta_bins"], g["z_bins"]
+        x = np.array([float(r["x_mm"]) for r in ex.wall]).reshape(Z, T)
+        y = np.array([float(r["y_mm"]) for r in ex.wall]).reshape(Z, T)
+        z = np.array([float(r["z_mm"]) for r in ex.wall]).reshape(Z, T)
+        state = np.array([r["state"] for r in ex.wall]).reshape(Z, T)
+        rim = ex.rim_mm or float(z.max())
+        keep = (z[:, 0] >= 0.0) & (z[:, 0] <= rim)  # floor plane to rim, as the volume
+        x, y, z, state = x[keep], y[keep], z[keep], state[keep]
+        # Closed around: the first column again.
+        x, y, z = (np.hstack([a, a[:, :1]]) for a in (x, y, z))
+        state = np.hstack([state, state[:, :1]])
+        colours = {"seen": "#90caf9", "short_bridge": "#90caf9", "floor": "#a1887f",
+                   "unseen": "#ff9800", "none": "#bdbdbd"}
+        face = np.empty(state.shape + (4,))
+        for k in range(state.shape[0]):
+            for t in range(state.shape[1]):
+                face[k, t] = matplotlib.colors.to_rgba(colours.get(state[k, t], "#bdbdbd"))
+        ax.plot_surface(x, y, z, facecolors=face, rstride=1, cstride=1, linewidth=0,
+                        antialiased=False, shade=True)
+        # The floor: the wall's lowest ring filled at z = 0.
+        ring_x, ring_y = x[0], y[0]
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+        ax.add_collection3d(Poly3DCollection([list(zip(ring_x, ring_y, np.zeros_like(ring_x)))],
+                                             facecolor="#8d6e63", alpha=0.6))
+        handles = [Patch(color="#90caf9", label="wall seen"),
+                   Patch(color="#ff9800", label="wall not seen, bridged (in the interval)"),
+                   Patch(color="#8d6e63", label="floor (z = 0)")]
+        span = max(np.ptp(x), np.ptp(y))
+        cx, cy = float(np.mean(x)), float(np.mean(y))
+        ax.set_xlim(cx - span / 2, cx + span / 2)
+        ax.set_ylim(cy - span / 2, cy + span / 2)
+        ax.set_zlim(0, max(rim, span * 0.3))
+        ax.set_title("The pit as measured: the surface model's wall and floor")
+    elif ex.x:
+        x, y, z = np.asarray(ex.x), np.asarray(ex.y), np.asarray(ex.z)
+        rim = ex.rim_mm
+        inside = (z >= 0) & (z <= (rim if rim else np.inf))
+        ax.scatter(x[inside], y[inside], z[inside], s=0.3, c=z[inside], cmap="viridis", rasterized=True)
+        handles = []
+        ax.set_title("The levelled points from the floor plane to the rim (no surface model: "
+                     "per-layer method)", fontsize=9)
+    else:
+        plt.close(fig)
+        return None
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_zlabel("height (mm)")
+    ax.view_init(elev=28, azim=-60)
+    if handles:
+        ax.legend(handles=handles, loc="upper left", fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
 def all_figures(ex):
     """(id, title, figure) in page order; figure None when not available."""
     return [
+        ("pit3d", "The pit in 3D", surface_3d(ex)),
         ("area", "Area against height", area_profile(ex)),
         ("outline", "Outline at several heights", outlines(ex)),
         ("coverage", "Coverage map", coverage_map(ex)),

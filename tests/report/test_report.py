@@ -20,6 +20,7 @@ import io
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -31,8 +32,10 @@ import matplotlib.image  # noqa: E402  (PNG decoding: Debian python3-matplotlib)
 import numpy as np  # noqa: E402
 
 SKIP = 77  # CTest SKIP_RETURN_CODE
-MASS_G, MOISTURE = 21000.0, 11.8
-FIGURES = ["area", "outline", "coverage", "side"]
+MASS_G, MOISTURE, MAX_DRY = 21000.0, 11.8, 1850.0
+FIGURES = ["pit3d", "area", "outline", "coverage", "side"]
+RECORD = ["--test-id", "FDT-0142", "--location", "STA 1+250, 2.5 m LT, lift 3", "--operator",
+          "J. Okafor", "--max-dry-density-kg-m3", str(MAX_DRY)]
 NUMBERS = ["volume_cm3", "interval_cm3", "depth_mm", "tilt_deg", "unseen_share", "layers_used",
            "layers_rejected", "points_in", "points_used"]
 EXPORT_FILES = ["model.json", "points.csv", "layers.csv", "coverage.csv", "wall_grid.csv",
@@ -129,13 +132,13 @@ def cmd_make(bin_dir, work):
         f.write(p.stdout)
     run([os.path.join(bin_dir, "pitvol-report"), scan, "--out", os.path.join(work, "page.html"),
          "--pdf", os.path.join(work, "page.pdf"), "--mass-g", str(MASS_G),
-         "--moisture-percent", str(MOISTURE)])
+         "--moisture-percent", str(MOISTURE), *RECORD, "--required-compaction-percent", "100"])
     for d in ("export1", "export2"):
         run([os.path.join(bin_dir, "pitvol"), "measure", scan, "--export", os.path.join(work, d)])
     # The same page again, from the export directory instead of the scan.
     run([os.path.join(bin_dir, "pitvol-report"), os.path.join(work, "export1"), "--out",
          os.path.join(work, "page_from_export.html"), "--mass-g", str(MASS_G),
-         "--moisture-percent", str(MOISTURE)])
+         "--moisture-percent", str(MOISTURE), *RECORD, "--required-compaction-percent", "100"])
     print("report fixture made in", work)
 
 
@@ -165,7 +168,26 @@ def cmd_page(work):
     check(math.isclose(float(page.values["wet_density_kg_m3"]), wet, rel_tol=1e-12), "wet density")
     dry = wet / (1 + MOISTURE / 100.0)
     check(math.isclose(float(page.values["dry_density_kg_m3"]), dry, rel_tol=1e-12), "dry density")
-    # The PDF: one page for the result and one per figure.
+    # The data sheet: the record as typed, the compaction and its range
+    # from the volume interval, the verdict (100 % lies inside the range:
+    # UNDECIDED, with the interval that would decide).
+    for key, want in (("test_id", "FDT-0142"), ("location", "STA 1+250, 2.5 m LT, lift 3"),
+                      ("operator", "J. Okafor"), ("mass_g", repr(MASS_G)),
+                      ("max_dry_density_kg_m3", repr(MAX_DRY)),
+                      ("required_compaction_percent", "100.0")):
+        check(page.values.get(key) == want, f"data sheet {key}: {page.values.get(key)!r}, want {want!r}")
+    rc = dry / MAX_DRY * 100.0
+    check(math.isclose(float(page.values["compaction_percent"]), rc, rel_tol=1e-12), "compaction")
+    lo = MASS_G / (vol + truth["interval_cm3"]) * 1000 / (1 + MOISTURE / 100) / MAX_DRY * 100
+    hi = MASS_G / (vol - truth["interval_cm3"]) * 1000 / (1 + MOISTURE / 100) / MAX_DRY * 100
+    check(f"({lo:.1f} .. {hi:.1f})" in page.text_of["compaction_percent"],
+          f"compaction range {page.text_of['compaction_percent']!r}, want {lo:.1f} .. {hi:.1f}")
+    want_verdict = "PASS" if lo >= 100 else "FAIL" if hi < 100 else "UNDECIDED"
+    check(page.values["verdict"] == want_verdict, f"verdict {page.values['verdict']}, want {want_verdict}")
+    if want_verdict == "UNDECIDED":
+        within = abs(vol - vol * rc / 100.0)
+        check(f"under ± {within:.1f} cm³" in page.text_of["verdict"], f"decide: {page.text_of['verdict']!r}")
+    # The PDF: one page for the data sheet and one per figure.
     with open(os.path.join(work, "page.pdf"), "rb") as f:
         pdf = f.read()
     check(pdf.startswith(b"%PDF-"), "page.pdf is not a PDF")
@@ -256,6 +278,57 @@ def cmd_methods(bin_dir, work):
     print("paper and refused pages made")
 
 
+def cmd_inputs(bin_dir, page_work, work):
+    """The data sheet's verdict at both ends; every typed number refused
+    outside its plausible range (the ranges of density.h) in one line with
+    exit 2; an unwritable --out or --pdf refused in one line with exit 3
+    before the work, nothing half-written, no traceback."""
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    report = os.path.join(bin_dir, "pitvol-report")
+    export = os.path.join(page_work, "export1")
+    base = [report, export, "--mass-g", str(MASS_G), "--moisture-percent", str(MOISTURE),
+            "--max-dry-density-kg-m3", str(MAX_DRY)]
+    for required, want in (("90", "PASS"), ("108", "FAIL")):
+        out = os.path.join(work, f"v{required}.html")
+        run(base + ["--required-compaction-percent", required, "--out", out])
+        check(parse_page(out).values["verdict"] == want, f"required {required}: not {want}")
+    # The report's ranges are the board's (firmware/density/include/pitvol/density.h).
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                    "host_tools", "report"))
+    import pitvol_report  # noqa: E402
+    header = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "firmware",
+                          "density", "include", "pitvol", "density.h")
+    with open(header) as f:
+        defs = dict(re.findall(r"#define (PV_DENSITY_\w+) ([0-9.]+)", f.read()))
+    for opt, lo, hi in (("mass-g", "MIN_MASS_G", "MAX_MASS_G"),
+                        ("moisture-percent", None, "MAX_MOISTURE_PERCENT"),
+                        ("max-dry-density-kg-m3", "MIN_REFERENCE_KG_M3", "MAX_REFERENCE_KG_M3"),
+                        ("required-compaction-percent", "MIN_REQUIRED_PERCENT", "MAX_REQUIRED_PERCENT")):
+        rlo, rhi = pitvol_report.RANGES[opt][:2]
+        check(rlo == (float(defs["PV_DENSITY_" + lo]) if lo else 0.0) and rhi == float(defs["PV_DENSITY_" + hi]),
+              f"--{opt}: the report's range {rlo} .. {rhi} is not density.h's")
+    out = os.path.join(work, "x.html")
+    for args in (["--mass-g", "1e308"], ["--mass-g", "1e-300"], ["--mass-g", "0x10"],
+                 ["--moisture-percent", "1e308"], ["--moisture-percent", "12,5"],
+                 ["--max-dry-density-kg-m3", "1.85"], ["--required-compaction-percent", "inf"],
+                 ["--test-id", "T\x1b[2J"], ["--bogus"]):
+        p = run([report, export, "--out", out, *args], codes=(2,))
+        check(p.stderr.count("\n") == 1 and "Traceback" not in p.stderr, f"{args}: {p.stderr}")
+    p = run([report, export, "--out", out, "--mass-g", "1e308"], codes=(2,))
+    check("outside 50 .. 100000 g" in p.stderr, f"the range is not named: {p.stderr}")
+    for target in (os.path.join(work, "no", "x.html"), work, "/dev/full"):
+        if target == "/dev/full" and not os.path.exists(target):
+            continue
+        p = run([report, export, "--out", target], codes=(3,))
+        check(p.stderr.count("\n") == 1 and "Traceback" not in p.stderr, f"--out {target}: {p.stderr}")
+    p = run([report, export, "--out", out, "--pdf", os.path.join(work, "no", "x.pdf")], codes=(3,))
+    check(not os.path.exists(out), "--out written although --pdf could not be")
+    left = [n for n in os.listdir(work) if ".tmp-" in n]
+    check(not left, f"half-written files left: {left}")
+    print("inputs: PASS and FAIL, 9 refusals in one line, unwritable outputs refused")
+
+
 def cmd_accuracy(bin_dir, page_work, work):
     """A two-case corpus (the fixture's necking scan and a cylinder), both
     methods: the page has the summary and three non-blank plots."""
@@ -303,6 +376,8 @@ def main(argv):
         return cmd_chromium(argv[1])
     if len(argv) == 3 and argv[0] == "methods":
         return cmd_methods(argv[1], argv[2]) or 0
+    if len(argv) == 4 and argv[0] == "inputs":
+        return cmd_inputs(argv[1], argv[2], argv[3]) or 0
     if len(argv) == 4 and argv[0] == "accuracy":
         return cmd_accuracy(argv[1], argv[2], argv[3]) or 0
     print(__doc__, file=sys.stderr)
