@@ -188,6 +188,10 @@ static void density(pv_board_app_t *app) {
   pv_board_model_t *m = &app->model;
   memset(&m->density, 0, sizeof m->density);
   m->result_id = 0;
+  m->verdict = PV_VERDICT_NONE;
+  m->decides_within_cm3 = 0;
+  snprintf(m->result_test_id, sizeof m->result_test_id, "%s", m->test_id);
+  if (m->result_status == PV_OK) m->test_id[0] = '\0'; /* used up, like the mass */
   if (m->result_status != PV_OK || !m->mass_set) return;
   pv_density_input_t in;
   memset(&in, 0, sizeof in);
@@ -204,6 +208,12 @@ static void density(pv_board_app_t *app) {
     return;
   }
   m->mass_set = 0;
+  m->verdict = pv_density_verdict(&m->density, in.volume_cm3, app->cfg.required_compaction_percent,
+                                  &m->decides_within_cm3);
+  if (m->verdict != PV_VERDICT_NONE) {
+    printf("pitvol-board: verdict %s against %.17g %% (decides within %.17g cm3)\n",
+           pv_verdict_name(m->verdict), app->cfg.required_compaction_percent, m->decides_within_cm3);
+  }
   printf("pitvol-board: density flags=0x%x mass_g=%.17g moisture_percent=%.17g wet_kg_m3=%.17g "
          "dry_kg_m3=%.17g compaction_percent=%.17g\n",
          m->density.flags, in.mass_g, in.has_moisture ? in.moisture_percent : 0.0, m->density.wet_kg_m3,

@@ -101,6 +101,22 @@ int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value
     c->max_dry_density_kg_m3 = d;
     return 0;
   }
+  if (strcmp(key, "required_compaction_percent") == 0) {
+    double d = 0;
+    char why[200];
+    if (strcmp(value, "0") != 0 && pv_input_parse(PV_INPUT_REQUIRED_PERCENT, value, &d, why, sizeof why) != 0) {
+      snprintf(err, errcap, "required_compaction_percent = %.40s: %s; or 0 for none", value, why);
+      return -1;
+    }
+    c->required_compaction_percent = d;
+    return 0;
+  }
+  if (strcmp(key, "location") == 0) {
+    return pv_input_text("location", value, c->location, sizeof c->location, err, errcap);
+  }
+  if (strcmp(key, "operator") == 0) {
+    return pv_input_text("operator", value, c->operator_name, sizeof c->operator_name, err, errcap);
+  }
   if (strcmp(key, "units") == 0) {
     if (strcmp(value, "cm3") == 0) {
       c->units = PV_UNITS_CM3;

@@ -11,6 +11,9 @@
  *   serial_baud = 115200         its rate (9600 .. 4000000, standard rates)
  *   result_log = /var/lib/pitvol/results   the result log's directory, or none
  *   max_dry_density_kg_m3 = 1850 reference for relative compaction (0: none)
+ *   required_compaction_percent = 95   the verdict's requirement (0: none)
+ *   location = STA 1+250         the test record's location, operator
+ *   operator = J. Okafor         (also set over the link: SetRecord)
  *   device_id = PV-0001          sent in the link's Hello
  *   units = cm3                  volume shown in cm3 or l
  *   estimate_period_ms = 500     live estimate while scanning
@@ -43,6 +46,9 @@ typedef struct pv_board_config {
   uint32_t serial_baud;
   char result_log[PV_BOARD_PATH_BYTES];
   double max_dry_density_kg_m3; /* 0: no compaction */
+  double required_compaction_percent; /* 0: no verdict */
+  char location[48];             /* the test record (Record.location) */
+  char operator_name[32];
   char device_id[24];   /* Hello.device_id: at most 23 characters */
   pv_board_units_t units;
   uint32_t estimate_period_ms;

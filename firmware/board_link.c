@@ -2,6 +2,7 @@
 #include "board_link.h"
 
 #include "board_clock.h"
+#include "board_record.h"
 #include "board_refusal.h"
 
 #include <errno.h>
@@ -234,6 +235,38 @@ static void set_density_input(pv_board_link_t *bl, const pv_link_rx_t *rx, int m
   ack(bl, rx->seq, 0);
 }
 
+/* The record from the configuration and the model, as board_record.h
+ * works on it. */
+static pv_board_record_t current_record(const pv_board_app_t *app) {
+  pv_board_record_t rec;
+  memset(&rec, 0, sizeof rec);
+  snprintf(rec.test_id, sizeof rec.test_id, "%s", app->model.test_id);
+  snprintf(rec.location, sizeof rec.location, "%s", app->cfg.location);
+  snprintf(rec.operator_name, sizeof rec.operator_name, "%s", app->cfg.operator_name);
+  rec.max_dry_density_kg_m3 = app->cfg.max_dry_density_kg_m3;
+  rec.required_compaction_percent = app->cfg.required_compaction_percent;
+  return rec;
+}
+
+static void set_record(pv_board_link_t *bl, const pv_link_rx_t *rx) {
+  pv_board_record_t rec = current_record(bl->app);
+  char why[sizeof(((pitvol_Nack *)0)->reason)];
+  if (pv_board_record_apply(&rec, &rx->msg.body.set_record, why, sizeof why) != 0) {
+    nack(bl, rx->seq, pitvol_NackCode_NACK_OUT_OF_RANGE, why);
+    return;
+  }
+  pv_board_app_t *app = bl->app;
+  snprintf(app->model.test_id, sizeof app->model.test_id, "%s", rec.test_id);
+  snprintf(app->cfg.location, sizeof app->cfg.location, "%s", rec.location);
+  snprintf(app->cfg.operator_name, sizeof app->cfg.operator_name, "%s", rec.operator_name);
+  app->cfg.max_dry_density_kg_m3 = rec.max_dry_density_kg_m3;
+  app->cfg.required_compaction_percent = rec.required_compaction_percent;
+  printf("pitvol-board: link: record test_id=%s location=%s operator=%s max_dry=%.17g required=%.17g\n",
+         rec.test_id, rec.location, rec.operator_name, rec.max_dry_density_kg_m3,
+         rec.required_compaction_percent);
+  ack(bl, rx->seq, 0);
+}
+
 static void post_or_busy(pv_board_link_t *bl, const pv_link_rx_t *rx, pv_board_event_t ev) {
   if (pv_board_app_post(bl->app, ev) != 0) {
     nack(bl, rx->seq, pitvol_NackCode_NACK_BUSY, "the board is busy; send the command again");
@@ -275,6 +308,9 @@ static void handle(pv_board_link_t *bl, const pv_link_rx_t *rx) {
       break;
     case pitvol_Message_set_moisture_tag:
       set_density_input(bl, rx, 1);
+      break;
+    case pitvol_Message_set_record_tag:
+      set_record(bl, rx);
       break;
     case pitvol_Message_get_results_tag:
       if (!bl->have_log) {
@@ -369,6 +405,10 @@ static void on_result(pv_board_link_t *bl) {
     p->compaction_low_percent = d->compaction_low_percent;
     p->compaction_high_percent = d->compaction_high_percent;
   }
+  /* The record the result was taken under (its test id was used up by it). */
+  pv_board_record_t rec = current_record(bl->app);
+  snprintf(rec.test_id, sizeof rec.test_id, "%s", md->result_test_id);
+  pv_board_result_record(r, &rec, d, md->result_status == PV_OK ? res->volume_cm3 : 0.0);
   if (bl->have_log) {
     r->id = pv_log_last_seq(&bl->log) + 1;
     uint8_t buf[pitvol_Result_size];

@@ -183,6 +183,19 @@ static int density_lines(pv_canvas_t *c, const pv_board_fonts_t *f, const pv_boa
                d->compaction_percent, d->compaction_low_percent, d->compaction_high_percent);
     }
   }
+  if (m->verdict != PV_VERDICT_NONE) {
+    /* The test's verdict, and for UNDECIDED what would decide it. */
+    const pv_color_t ink = m->verdict == PV_VERDICT_PASS ? PV_COLOR_GREEN
+                           : m->verdict == PV_VERDICT_FAIL ? PV_COLOR_RED : PV_COLOR_AMBER;
+    if (m->verdict == PV_VERDICT_UNDECIDED) {
+      y = line(c, &f->body, y, ink, "UNDECIDED: need " PLUSMINUS "%.0f cm" CUBED, m->decides_within_cm3);
+    } else {
+      y = line(c, &f->body, y, ink, "%s %s", m->result_test_id[0] ? m->result_test_id : "test",
+               pv_verdict_name(m->verdict));
+    }
+    pv_canvas_note(c, "verdict %s decides_within_cm3=%.17g test_id=%s", pv_verdict_name(m->verdict),
+                   m->decides_within_cm3, m->result_test_id);
+  }
   pv_canvas_note(c, "density flags=0x%x wet_kg_m3=%.17g dry_kg_m3=%.17g compaction_percent=%.17g",
                  d->flags, d->wet_kg_m3, d->dry_kg_m3, d->compaction_percent);
   return y;

@@ -82,6 +82,13 @@ typedef struct pv_board_model {
   int mass_set, moisture_set;
   double mass_g, moisture_percent;
   pv_density_t density;  /* of model.result; flags 0: no mass was set */
+  /* The test record (SetRecord): the test id belongs to one pit, like the
+   * mass; the verdict of model.result against the configuration's
+   * required compaction. */
+  char test_id[24];
+  char result_test_id[24];     /* the test id model.result was taken under */
+  pv_verdict_t verdict;
+  double decides_within_cm3;   /* UNDECIDED: the interval that would decide */
   uint32_t result_id;    /* the result's record number in the log, 0: not logged */
 } pv_board_model_t;
 

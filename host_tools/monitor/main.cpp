@@ -49,6 +49,11 @@ const char *kUsage =
     "  start | stop        start or stop a scan\n"
     "  set-mass GRAMS      wet mass of the excavated soil, for the density\n"
     "  set-moisture PCT    water content in % of dry mass, for the dry density\n"
+    "  set-test-id ID      the next result's test number (used up by it)\n"
+    "  set-location TEXT   where the test is: station, offset, lift\n"
+    "  set-operator NAME   who runs the test\n"
+    "  set-max-dry-density KG_M3   Proctor maximum dry density (1000 .. 2800)\n"
+    "  set-required-compaction PCT required relative compaction (50 .. 110): the verdict\n"
     "options:\n"
     "  --baud N            serial rate (default 115200)\n"
     "  --json              one JSON object per line\n"
@@ -222,6 +227,35 @@ bool make_command(const std::string &name, const std::string &arg, pitvol_Messag
       cmd->which_body = pitvol_Message_set_moisture_tag;
       cmd->body.set_moisture.moisture_percent = v;
     }
+  } else if (name == "set-test-id" || name == "set-location" || name == "set-operator") {
+    // Text for the record: the board checks it (printable, its length).
+    cmd->which_body = pitvol_Message_set_record_tag;
+    pitvol_SetRecord &r = cmd->body.set_record;
+    char *dst = name == "set-test-id" ? r.test_id : name == "set-location" ? r.location : r.operator_name;
+    const size_t cap = name == "set-test-id" ? sizeof r.test_id
+                       : name == "set-location" ? sizeof r.location : sizeof r.operator_name;
+    if (arg.size() + 1 > cap) {
+      *err = name + ": at most " + std::to_string(cap - 1) + " characters";
+      return false;
+    }
+    std::snprintf(dst, cap, "%s", arg.c_str());
+    r.fields = name == "set-test-id" ? pitvol_RecordField_RECORD_TEST_ID
+               : name == "set-location" ? pitvol_RecordField_RECORD_LOCATION : pitvol_RecordField_RECORD_OPERATOR;
+  } else if (name == "set-max-dry-density" || name == "set-required-compaction") {
+    char why[160];
+    if (arg.empty() || pv_parse_decimal(arg.c_str(), &v, why, sizeof why) != 0) {
+      *err = name + " needs a number" + (arg.empty() ? "" : std::string(": ") + why);
+      return false;
+    }
+    cmd->which_body = pitvol_Message_set_record_tag;
+    pitvol_SetRecord &r = cmd->body.set_record;
+    if (name == "set-max-dry-density") {
+      r.fields = pitvol_RecordField_RECORD_MAX_DRY_DENSITY;
+      r.max_dry_density_kg_m3 = v;
+    } else {
+      r.fields = pitvol_RecordField_RECORD_REQUIRED_COMPACTION;
+      r.required_compaction_percent = v;
+    }
   } else {
     *err = "unknown command '" + name + "'";
     return false;
@@ -342,7 +376,8 @@ int watch(HostLink &link, const Options &opt) {
       in_buf.erase(0, eol + 1);
       std::istringstream words(line);
       std::string name, arg;
-      words >> name >> arg;
+      words >> name;
+      std::getline(words >> std::ws, arg);  // the rest: a location has spaces
       if (name.empty()) continue;
       if (name == "quit") {
         g_stop = 1;
@@ -413,10 +448,12 @@ int main(int argc, char **argv) {
     }
   }
   if (pos.empty()) return usage("give the serial port, e.g. /dev/ttyUSB0");
-  if (pos.size() > 3) return usage("too many arguments");
   opt.port = pos[0];
   if (pos.size() > 1) opt.command = pos[1];
-  if (pos.size() > 2) opt.arg = pos[2];
+  // The record's words may come unquoted: set-location STA 1+250, lift 3.
+  const bool text = opt.command == "set-test-id" || opt.command == "set-location" || opt.command == "set-operator";
+  if (pos.size() > 3 && !text) return usage("too many arguments");
+  for (size_t i = 2; i < pos.size(); ++i) opt.arg += (i > 2 ? " " : "") + pos[i];
   if (!pv_serial_baud_supported(opt.baud)) return usage("unsupported baud rate");
   if (opt.tries < 1) opt.tries = 1;
 

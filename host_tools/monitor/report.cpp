@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "pitvol/advice.h"
+#include "pitvol/density.h"
 #include "pitvol/pitvol.h"
 #include "pitvol/json_writer.h"
 #include "pitvol/result_report.h"
@@ -153,6 +154,8 @@ void density_json(JsonObject &o, const pitvol_Result &r) {
   }
 }
 
+const char *verdict_name(int v) { return pv_verdict_name(pv_verdict_t(v)); }
+
 // A CSV cell: printable, and quoted when it holds a comma or a quote.
 std::string csv_cell(const std::string &s) {
   const std::string p = printable(s);
@@ -269,11 +272,22 @@ std::string result_text(const pitvol_Result &r) {
   if (d.flags & pitvol_DensityFlag_DENSITY_DRY)
     t += "\n         dry density " + range(d.dry_kg_m3, d.dry_low_kg_m3, d.dry_high_kg_m3, "kg/m3") +
          " at " + fmt("%.2f", d.moisture_percent) + " % moisture";
+  if (r.has_record && (r.record.test_id[0] || r.record.location[0] || r.record.operator_name[0]))
+    t += "\n         test " + printable(r.record.test_id[0] ? r.record.test_id : "-") + ", " +
+         printable(r.record.location[0] ? r.record.location : "-") + ", operator " +
+         printable(r.record.operator_name[0] ? r.record.operator_name : "-");
   if (d.flags & pitvol_DensityFlag_DENSITY_COMPACTION)
     t += "\n         compaction " + fmt("%.1f", d.compaction_percent) + " % (" +
          fmt("%.1f", d.compaction_low_percent) + " .. " +
          (open ? std::string("?") : fmt("%.1f", d.compaction_high_percent)) + ") of " +
          fmt("%.0f", d.reference_max_dry_kg_m3) + " kg/m3";
+  if (r.record.verdict != pitvol_Verdict_VERDICT_NONE) {
+    t += "\n         verdict  " + std::string(verdict_name(r.record.verdict)) + " (required " +
+         fmt("%.1f", r.record.required_compaction_percent) + " %)";
+    if (r.record.verdict == pitvol_Verdict_VERDICT_UNDECIDED)
+      t += ": the range straddles it; a volume interval under +/- " + fmt("%.1f", r.record.decides_within_cm3) +
+           " cm3 would decide";
+  }
   return t;
 }
 
@@ -305,6 +319,13 @@ std::string result_json(const pitvol_Result &r) {
     o.str("advice", a.sentence);
   }
   density_json(o, r);
+  const pitvol_Record &rec = r.record;
+  o.str("test_id", rec.test_id).str("location", rec.location).str("operator", rec.operator_name);
+  if (rec.required_compaction_percent > 0) o.num("required_compaction_percent", rec.required_compaction_percent);
+  else o.null("required_compaction_percent");
+  if (rec.verdict != pitvol_Verdict_VERDICT_NONE) o.str("verdict", verdict_name(rec.verdict));
+  else o.null("verdict");
+  if (rec.verdict == pitvol_Verdict_VERDICT_UNDECIDED) o.num("decides_within_cm3", rec.decides_within_cm3);
   return o.text();
 }
 
@@ -323,7 +344,8 @@ std::string result_csv_header() {
          "points_in,points_used,density_flags,mass_g,moisture_percent,wet_kg_m3,wet_low_kg_m3,"
          "wet_high_kg_m3,dry_kg_m3,dry_low_kg_m3,dry_high_kg_m3,reference_max_dry_kg_m3,"
          "compaction_percent,compaction_low_percent,compaction_high_percent,failed_check,"
-         "check_value,check_limit,gap_from_mm,gap_to_mm,warning_names";
+         "check_value,check_limit,gap_from_mm,gap_to_mm,warning_names,test_id,location,operator,"
+         "required_compaction_percent,verdict,decides_within_cm3";
 }
 
 std::string result_csv_row(const pitvol_Result &r) {
@@ -350,6 +372,11 @@ std::string result_csv_row(const pitvol_Result &r) {
   row += std::string(",") + (by_check ? pv_pit_check_name(r.failed_check) : "") + "," +
          num(by_check, r.check_value) + "," + num(by_check, r.check_limit) + "," +
          num(gap, r.gap_from_mm) + "," + num(gap, r.gap_to_mm) + "," + warning_names(r.warnings);
+  const pitvol_Record &rec = r.record;
+  row += "," + csv_cell(rec.test_id) + "," + csv_cell(rec.location) + "," + csv_cell(rec.operator_name) + "," +
+         num(rec.required_compaction_percent > 0, rec.required_compaction_percent) + "," +
+         (rec.verdict ? verdict_name(rec.verdict) : "") + "," +
+         num(rec.verdict == pitvol_Verdict_VERDICT_UNDECIDED, rec.decides_within_cm3);
   return row;
 }
 

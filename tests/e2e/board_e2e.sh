@@ -267,6 +267,19 @@ serial_link)
   mon set-mass -1 >/dev/null 2>"$work/nack.txt" && fail "a negative mass was taken"
   grep -q "outside 50 .. 100000 g" "$work/nack.txt" || fail "no reason for the refused mass: $(cat "$work/nack.txt")"
   mon stop >/dev/null 2>&1 && fail "StopScan while idle was taken"
+  # The test record (SetRecord): text and the requirement; absurd or
+  # hostile values refused by the board with their range or reason.
+  mon set-test-id FDT-E2E-1 >/dev/null 2>&1 || fail "set-test-id"
+  mon set-location "STA 0+100, 2.5 m LT, lift 2" >/dev/null 2>&1 || fail "set-location"
+  mon set-operator "A. Tester" >/dev/null 2>&1 || fail "set-operator"
+  mon set-required-compaction 95 >/dev/null 2>&1 || fail "set-required-compaction"
+  mon set-required-compaction 1e308 >/dev/null 2>"$work/nack.txt" && fail "a requirement of 1e308 % was taken"
+  grep -q "outside 50 .. 110 %" "$work/nack.txt" || fail "no range for the requirement: $(cat "$work/nack.txt")"
+  mon set-max-dry-density 1.85 >/dev/null 2>"$work/nack.txt" && fail "a max dry density in g/cm3 was taken"
+  grep -q "times 1000" "$work/nack.txt" || fail "no hint for g/cm3: $(cat "$work/nack.txt")"
+  mon set-mass 0x10 >/dev/null 2>&1; [ $? -eq 2 ] || fail "set-mass 0x10 not a usage error"
+  mon set-operator $'A\x1b[2J' >/dev/null 2>"$work/nack.txt" && fail "a control character was taken"
+  grep -q "control character" "$work/nack.txt" || fail "no reason for the control character"
   # StartScan through watch: Status while scanning, the Result when the
   # scanner ends the scan.
   printf 'start\n' | mon watch --json --count 1 --seconds 90 >"$work/watch.json" || fail "watch"
@@ -297,6 +310,12 @@ serial_link)
   near dry_kg_m3 "$(awk -v w="$wet" 'BEGIN { printf "%.17g", w / 1.125 }')"
   near compaction_percent "$(awk -v w="$wet" 'BEGIN { printf "%.17g", w / 1.125 / 1850 * 100 }')"
   has "$screens/result.txt" "density flags=0x7 "
+  # The record and the verdict: 95.6 % (its range) against 95 %: PASS, on
+  # the screen, in the result and (after the restart below) in the log.
+  grep -q '"test_id": "FDT-E2E-1", "location": "STA 0+100, 2.5 m LT, lift 2", "operator": "A. Tester", "required_compaction_percent": 95, "verdict": "PASS"' \
+    "$work/result1.json" || fail "result 1 lacks its record: $(cat "$work/result1.json")"
+  has "$screens/result.txt" "|FDT-E2E-1 PASS"
+  has "$screens/result.txt" "verdict PASS "
   has "$screens/result.txt" "|wet $(awk -v w="$wet" 'BEGIN { printf "%.3f", w / 1000 }') dry $(awk -v w="$wet" 'BEGIN { printf "%.3f", w / 1125 }') g/cm³"
   has "$screens/result.txt" "|compaction $(awk -v w="$wet" 'BEGIN { printf "%.1f", w / 1.125 / 18.5 }')%"
   pass "density on the RESULT screen and in the Result: wet $wet kg/m3"

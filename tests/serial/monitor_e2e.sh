@@ -68,7 +68,38 @@ mon "$port" fetch --from 21 --json >"$work/r2122.json" 2>/dev/null
 grep -q '"id": 21, .*"warnings": \[\], "notes": \["dense parts of the scan were thinned' "$work/r2122.json" \
   || fail "result 21 JSON: thinning is a note ($(cat "$work/r2122.json"))"
 mon "$port" fetch --from 22 >"$work/r22.csv" 2>/dev/null
-tail -1 "$work/r22.csv" | grep -q ',PV_WARN_POINTS_THINNED PV_WARN_BRIDGED$' || fail "result 22 CSV: $(tail -1 "$work/r22.csv")"
+tail -1 "$work/r22.csv" | grep -q ',PV_WARN_POINTS_THINNED PV_WARN_BRIDGED,' || fail "result 22 CSV: $(tail -1 "$work/r22.csv")"
+# The test record: result 23 (1527.5 +/- 30 cm3, 3000 g, 12.5 %, 1850
+# kg/m3: compaction 94.4 %, 92.6 .. 96.2) against 95 %: UNDECIDED, with the
+# interval that would decide, 1527.5 - 1527.5 x 94.366 / 95 = 10.19 cm3.
+for c in "set-test-id FDT-0023" "set-operator J. Okafor" "set-required-compaction 95" "set-mass 3000" \
+         "set-moisture 12.5"; do
+  mon "$port" $c >/dev/null 2>"$work/rec.err" || fail "$c: $(cat "$work/rec.err")"
+done
+mon "$port" set-location "STA 1+250, 2.5 m LT, lift 3" >/dev/null || fail "set-location"
+printf 'start\nstop\n' | mon "$port" watch --count 1 --seconds 20 >"$work/watch23.txt" || fail "watch 23"
+grep -q '^         test FDT-0023, STA 1+250, 2.5 m LT, lift 3, operator J. Okafor$' "$work/watch23.txt" \
+  || fail "result 23: no record line ($(cat "$work/watch23.txt"))"
+grep -q '^         verdict  UNDECIDED (required 95.0 %): the range straddles it; a volume interval under +/- 10.2 cm3 would decide$' \
+  "$work/watch23.txt" || fail "result 23: verdict ($(cat "$work/watch23.txt"))"
+mon "$port" fetch --from 23 --json >"$work/r23.json" 2>/dev/null
+grep -q '"test_id": "FDT-0023", "location": "STA 1+250, 2.5 m LT, lift 3", "operator": "J. Okafor", "required_compaction_percent": 95, "verdict": "UNDECIDED", "decides_within_cm3": 10.1' \
+  "$work/r23.json" || fail "result 23 JSON: $(cat "$work/r23.json")"
+mon "$port" fetch --from 23 >"$work/r23.csv" 2>/dev/null
+head -1 "$work/r23.csv" | grep -q ',test_id,location,operator,required_compaction_percent,verdict,decides_within_cm3$' \
+  || fail "CSV header without the record"
+tail -1 "$work/r23.csv" | grep -q ',FDT-0023,"STA 1+250, 2.5 m LT, lift 3",J. Okafor,95,UNDECIDED,10.1' \
+  || fail "result 23 CSV: $(tail -1 "$work/r23.csv")"
+# The test id was used up by result 23; the next result has none.
+printf 'start\nstop\n' | mon "$port" watch --json --count 1 --seconds 20 >"$work/watch24.json" || fail "watch 24"
+grep -q '"id": 24, .*"test_id": "", "location": "STA 1+250' "$work/watch24.json" || fail "test id not used up"
+# Absurd numbers refused by the board, with the range; a hex number by the monitor.
+for c in "set-mass 1e308" "set-mass 1e-300" "set-required-compaction 400" "set-max-dry-density 1.85"; do
+  set +e; mon "$port" $c 2>"$work/rec.err"; rc=$?; set -e
+  [ $rc -eq 1 ] && grep -q "is outside" "$work/rec.err" || fail "$c: exit $rc, $(cat "$work/rec.err")"
+done
+set +e; mon "$port" set-mass 0x10 2>"$work/rec.err"; rc=$?; set -e
+[ $rc -eq 2 ] && [ "$(wc -l <"$work/rec.err")" -eq 1 ] || fail "set-mass 0x10: exit $rc, $(cat "$work/rec.err")"
 # Refusals: exit status 1 and a reason.
 set +e
 mon "$port" set-mass -5 2>"$work/nack.err"; rc=$?
@@ -160,9 +191,9 @@ grep -q '"status": "PV_ERR_NOT_A_PIT", .*"volume_cm3": null, .*"failed_check": "
   && [ "$(field check_limit "$work/sphere-result.json")" = "$want_limit" ] \
   || fail "sphere: figures $(field check_value "$work/sphere-result.json") / $(field check_limit "$work/sphere-result.json"), pitvol measure $want_value / $want_limit"
 mon "$work/sphere-port" fetch >"$work/sphere.csv" 2>/dev/null || fail "sphere fetch csv"
-head -1 "$work/sphere.csv" | grep -q ',failed_check,check_value,check_limit,gap_from_mm,gap_to_mm,warning_names$' \
+head -1 "$work/sphere.csv" | grep -q ',failed_check,check_value,check_limit,gap_from_mm,gap_to_mm,warning_names,' \
   || fail "CSV header without the refusal columns"
-tail -1 "$work/sphere.csv" | grep -q ",PV_PIT_CHECK_NARROW_MOUTH,[0-9.e-]*,0.5,,,[A-Z_ ]*$" \
+tail -1 "$work/sphere.csv" | grep -q ",PV_PIT_CHECK_NARROW_MOUTH,[0-9.e-]*,0.5,,,[A-Z_ ]*," \
   || fail "sphere: CSV row $(tail -1 "$work/sphere.csv")"
 printf 'start\nstop\n' | mon "$work/sphere-port" watch --count 1 --seconds 60 >"$work/sphere.txt" \
   || fail "sphere watch (text)"

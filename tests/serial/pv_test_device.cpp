@@ -35,6 +35,7 @@
 #include <pb_encode.h>
 
 #include "board_clock.h"
+#include "board_record.h"
 #include "board_refusal.h"
 #include "pitvol/density.h"
 #include "pitvol/user_input.h"
@@ -107,6 +108,7 @@ struct Device {
   uint64_t points = 0;
   bool mass_set = false, moisture_set = false;
   double mass_g = 0, moisture_percent = 0;
+  pv_board_record_t record{};  // SetRecord; max dry density from --max-dry
 
   struct Fetch {
     bool on = false;
@@ -162,7 +164,7 @@ pitvol_Result make_result(Device &d, uint32_t id, const pv_result_t &r, const ch
     in.mass_g = d.mass_g;
     in.has_moisture = d.moisture_set;
     in.moisture_percent = d.moisture_percent;
-    in.reference_max_dry_kg_m3 = d.opt.max_dry;
+    in.reference_max_dry_kg_m3 = d.record.max_dry_density_kg_m3;
     pv_density_t den;
     if (pv_density_compute(&in, &den) == PV_DENSITY_OK && den.flags) {
       out.has_density = true;
@@ -176,11 +178,13 @@ pitvol_Result make_result(Device &d, uint32_t id, const pv_result_t &r, const ch
       p.dry_kg_m3 = den.dry_kg_m3;
       p.dry_low_kg_m3 = den.dry_low_kg_m3;
       p.dry_high_kg_m3 = den.dry_high_kg_m3;
-      p.reference_max_dry_kg_m3 = (den.flags & PV_DENSITY_COMPACTION) ? d.opt.max_dry : 0;
+      p.reference_max_dry_kg_m3 = (den.flags & PV_DENSITY_COMPACTION) ? d.record.max_dry_density_kg_m3 : 0;
       p.compaction_percent = den.compaction_percent;
       p.compaction_low_percent = den.compaction_low_percent;
       p.compaction_high_percent = den.compaction_high_percent;
     }
+    pv_board_result_record(&out, &d.record, &den, r.volume_cm3);
+    d.record.test_id[0] = '\0';  // used up by a measured result, as on the board
   }
   return out;
 }
@@ -369,6 +373,15 @@ void handle(Device &d, const pv_link_rx_t &rx) {
       ack(d, rx.seq);
       break;
     }
+    case pitvol_Message_set_record_tag: {
+      char why[sizeof(pitvol_Nack{}.reason)];
+      if (pv_board_record_apply(&d.record, &m.body.set_record, why, sizeof why) != 0) {
+        nack(d, rx.seq, pitvol_NackCode_NACK_OUT_OF_RANGE, why);
+        break;
+      }
+      ack(d, rx.seq);
+      break;
+    }
     case pitvol_Message_get_results_tag:
       if (d.fetch.on) ack(d, d.fetch.cmd_seq, d.fetch.sent);  // a newer request replaces it
       d.fetch = {};
@@ -446,6 +459,7 @@ int main(int argc, char **argv) {
     else return usage();
   }
   if (d.opt.log_dir.empty() || d.opt.port_link.empty()) return usage();
+  d.record.max_dry_density_kg_m3 = d.opt.max_dry;
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
 
