@@ -36,7 +36,7 @@ run() { # log, then pitvol-board-emu arguments
 }
 wait_for() { # log, regex
   for _ in $(seq 1 900); do
-    grep -Eq "$2" "$1" && return 0
+    grep -Eqs "$2" "$1" && return 0  # -s: the log appears when the board starts
     kill -0 "$pid" 2>/dev/null || { cat "$1"; echo "board-demo: the board stopped" >&2; exit 1; }
     sleep 0.1
   done
