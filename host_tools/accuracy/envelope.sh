@@ -55,7 +55,8 @@ if [ ! -f "$out/manifest.csv" ] || [ "$(cat "$out/sweep-args" 2>/dev/null)" != "
 fi
 kind=tuning
 [ "$seed" -ge 1000 ] && kind=fresh
-commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+# The last commit that changed the core (what the table measures).
+commit=$(git log -1 --format=%h -- core 2>/dev/null || echo unknown)
 title="Envelope ($kind seeds, core at $commit)"
 start=$(date +%s)
 table=$($bin/pitvol-accuracy "$out" --envelope --markdown --jobs "$jobs" --title "$title" \

@@ -448,7 +448,17 @@ std::string envelope_json(const EnvelopeCase &c, const Pit &pit, const WrittenPl
       c.twin.empty() ? "null" : ("\"" + c.twin + "\"").c_str(),
       c.twin_of.empty() ? "null" : ("\"" + c.twin_of + "\"").c_str(), c.expect.c_str(),
       w.coverage.unseen_share, json_escape(reproduce(c)).c_str(), c.name.c_str());
-  return std::string(b) + pit.params_json + "}";
+  // The pose: world = R * pit + t (pit frame: axis on z, floor near 0, rim
+  // plane at depth_mm), millimetres, for levelled views of the scan.
+  char pose[640];
+  std::snprintf(pose, sizeof pose,
+                "\"world_from_pit\": {\"R\": [%.17g, %.17g, %.17g, %.17g, %.17g, %.17g, %.17g, "
+                "%.17g, %.17g], \"t_mm\": [%.17g, %.17g, %.17g]}, ",
+                w.R[0], w.R[1], w.R[2], w.R[3], w.R[4], w.R[5], w.R[6], w.R[7], w.R[8], w.t[0], w.t[1],
+                w.t[2]);
+  std::string head(b);
+  const size_t at = head.rfind("\"params\": ");
+  return head.substr(0, at) + pose + head.substr(at) + pit.params_json + "}";
 }
 
 std::string envelope_csv_header() {

@@ -40,6 +40,7 @@ while IFS=, read -r -a f; do
 done < <(tail -n +2 "$work/a/manifest.csv")
 [ $rows -eq 12 ] || fail "$rows scans in the manifest, not 12"
 grep -q '"measure_units": null' "$work/a/manifest.json" || fail "manifest.json lacks measure_units"
+grep -q '"world_from_pit": {"R": \[' "$work/a/manifest.json" || fail "manifest.json lacks the pose"
 echo "sweep: 12 scans and $twins twins; --index 3 and 5 the same bytes"
 "$acc" "$work/a" --envelope --markdown > "$work/table.md"
 grep -q '^| mean abs error <= 0.05 %' "$work/table.md" || fail "no targets in the envelope table"
