@@ -22,7 +22,11 @@ mcu_run() {  # ARGS... -> the MCU app's output under qemu
   qemu-system-arm -M mps2-an500 -nographic -monitor none -serial none \
     -semihosting-config "$args" -kernel build-mcu/bin/pitvol-mcu.elf
 }
-qemu_a64=(qemu-aarch64-static -L /usr/aarch64-linux-gnu)
+# As the board preset's tests run it: through the sysroot's loader
+# (toolchain/aarch64-linux-gnu.cmake).
+sysroot=${PITVOL_ARM64_SYSROOT:-build-sysroot/arm64}/root
+qemu_a64=(qemu-aarch64-static "$sysroot/lib/ld-linux-aarch64.so.1"
+          --library-path "$sysroot/usr/lib/aarch64-linux-gnu")
 
 for f in build/core/libpitvol_core.a build-board/core/libpitvol_core.a \
          build-mcu/core/libpitvol_core.a build-mcu/bin/pitvol-mcu.elf \

@@ -9,7 +9,8 @@
 #   board_e2e.sh CASE BIN_DIR FIXTURE_DIR WORK_DIR
 # Environment (the board build under qemu, tests/e2e/CMakeLists.txt):
 #   PV_E2E_RUN       runs the board's programs: "umockdev-wrapper
-#                    qemu-aarch64-static -L SYSROOT"; empty natively
+#                    qemu-aarch64-static SYSROOT/lib/ld-linux-aarch64.so.1
+#                    --library-path ..." (docs/targets.md); empty natively
 #                    (pitvol-board-emu runs itself under umockdev-wrapper)
 #   PV_E2E_HOST_BIN  the host's pitvol (reference) and pitvol-monitor;
 #                    default BIN_DIR
