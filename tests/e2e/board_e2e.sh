@@ -230,7 +230,7 @@ refused)
   # the same on the screen as from pitvol measure.
   grep -q "^text .*|too few points (5 837)" "$screens/refused.txt" || fail "reason not shown"
   grep -q "^text .*|rescan slowly, all round" "$screens/refused.txt" || fail "what to do not shown"
-  local_cli=$("$bin/pitvol" measure "$small.ply" --config "$work/paper.conf" 2>&1)
+  local_cli=$("$host_bin/pitvol" measure "$small.ply" --config "$work/paper.conf" 2>&1)
   grep -q "too few points (5837)" <<<"$local_cli" || fail "pitvol measure gives other advice: $local_cli"
   pass "refused with $ref_st, as pitvol measure"
   stop_board || fail "board did not exit cleanly"
