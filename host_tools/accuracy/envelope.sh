@@ -5,7 +5,10 @@
 # docs/accuracy.md between the envelope-table markers.
 #
 #   host_tools/accuracy/envelope.sh [--seed S] [--count N] [--out DIR]
-#       [--jobs N] [--peers grid25,cloudcompare,poisson] [--write-doc]
+#       [--jobs N] [--peers grid25,cloudcompare,poisson] [--config FILE]
+#       [--write-doc]
+# --config: pitvol measure's configuration (a loosened limit, say), passed
+# to every measurement and named in the table.
 #
 # Seeds below 1000 are tuning seeds, 1000 and up fresh (held out). Default:
 # seed 1, 300 scans, build/envelope-s<S>-n<N>, 2 jobs (the sweep is made in
@@ -13,7 +16,7 @@
 # (cmake --preset default && cmake --build --preset default).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-seed=1 count=300 out="" jobs=2 peers="" write_doc=0
+seed=1 count=300 out="" jobs=2 peers="" config="" write_doc=0
 while [ $# -gt 0 ]; do
   case $1 in
     --seed) seed=$2; shift 2 ;;
@@ -21,8 +24,9 @@ while [ $# -gt 0 ]; do
     --out) out=$2; shift 2 ;;
     --jobs) jobs=$2; shift 2 ;;
     --peers) peers=$2; shift 2 ;;
+    --config) config=$2; shift 2 ;;
     --write-doc) write_doc=1; shift ;;
-    *) echo "usage: $0 [--seed S] [--count N] [--out DIR] [--jobs N] [--peers LIST] [--write-doc]" >&2; exit 2 ;;
+    *) echo "usage: $0 [--seed S] [--count N] [--out DIR] [--jobs N] [--peers LIST] [--config FILE] [--write-doc]" >&2; exit 2 ;;
   esac
 done
 out=${out:-build/envelope-s$seed-n$count}
@@ -60,9 +64,9 @@ commit=$(git log -1 --format=%h -- core 2>/dev/null || echo unknown)
 title="Envelope ($kind seeds, core at $commit)"
 start=$(date +%s)
 table=$($bin/pitvol-accuracy "$out" --envelope --markdown --jobs "$jobs" --title "$title" \
-        ${peers:+--peers "$peers"} | sed "s|$out/|$out/|")
+        ${peers:+--peers "$peers"} ${config:+--config "$config"})
 echo "measured in $(( $(date +%s) - start )) s" >&2
-cmd="host_tools/accuracy/envelope.sh --seed $seed --count $count${peers:+ --peers $peers}"
+cmd="host_tools/accuracy/envelope.sh --seed $seed --count $count${peers:+ --peers $peers}${config:+ --config $config}"
 block=$(printf '%s\n\nMade by `%s` (%s).\n' "$table" "$cmd" "$(date -u +%Y-%m-%d)")
 if [ $write_doc -eq 1 ]; then
   doc=docs/accuracy.md

@@ -96,8 +96,9 @@ bool read_sweep(const std::string &dir, std::vector<Scan> *scans, std::string *e
   return !scans->empty();
 }
 
-Result measure(const std::string &bin_dir, const std::string &file, const std::string &method) {
-  const std::string out = measure_json(bin_dir, file, method);
+Result measure(const std::string &bin_dir, const std::string &file, const std::string &method,
+               const std::string &config) {
+  const std::string out = measure_json(bin_dir, file, method, config);
   Result r;
   r.status = json_str(out, "status");
   if (r.status.empty()) r.status = "NO_OUTPUT";
@@ -231,6 +232,7 @@ std::string peer_text(const PeerCell &p) {
 
 const char kUsage[] =
     "usage: pitvol-accuracy SWEEP_DIR --envelope [--markdown] [--method NAME] [--jobs N]\n"
+    "                       [--config FILE]\n"
     "                       [--title TEXT] [--peers grid25,cloudcompare,poisson]\n"
     "                       [--peers-cache DIR] [--peers-cached-only] [--worst N]\n";
 
@@ -242,7 +244,7 @@ int envelope_main(int argc, char **argv) {
     return 2;
   }
   const std::string dir = argv[1];
-  std::string method = "surface", title;
+  std::string method = "surface", title, config;
   bool markdown = false;
   int jobs = 1;
   size_t worst_n = 30;
@@ -256,6 +258,7 @@ int envelope_main(int argc, char **argv) {
     else if (a == "--method" && more) method = argv[++i];
     else if (a == "--jobs" && more) jobs = std::max(1, std::atoi(argv[++i]));
     else if (a == "--title" && more) title = argv[++i];
+    else if (a == "--config" && more) config = argv[++i];
     else if (a == "--worst" && more) worst_n = size_t(std::max(0, std::atoi(argv[++i])));
     else if (a == "--peers" && more) {
       std::stringstream ss(argv[++i]);
@@ -287,7 +290,7 @@ int envelope_main(int argc, char **argv) {
   std::atomic<size_t> next{0};
   auto work = [&] {
     for (size_t i = next++; i < scans.size(); i = next++)
-      results[i] = measure(bin_dir, dir + "/" + scans[i].name + ".ply", method);
+      results[i] = measure(bin_dir, dir + "/" + scans[i].name + ".ply", method, config);
   };
   std::vector<std::thread> pool;
   for (int j = 0; j < jobs; ++j) pool.emplace_back(work);
@@ -342,8 +345,9 @@ int envelope_main(int argc, char **argv) {
   for (const std::string &s : seeds) seed_list += (seed_list.empty() ? "" : ", ") + s;
   if (!title.empty()) std::printf("%s%s\n\n", markdown ? "## " : "", title.c_str());
   std::printf("%zu scans (and %zu 1x twins) of sweep seed %s, method %s, `pitvol measure` "
-              "without --units.\n\n",
-              n_scans, n_twins, seed_list.c_str(), method.c_str());
+              "without --units, %s.\n\n",
+              n_scans, n_twins, seed_list.c_str(), method.c_str(),
+              config.empty() ? "the default configuration" : ("--config " + config).c_str());
 
   // Targets.
   Cell all_acc, long_cell, dup_cell, slip_cell, unit_cell, refusal_cell;

@@ -130,10 +130,11 @@ std::string self_dir() {
 }
 
 std::string measure_json(const std::string &bin_dir, const std::string &file,
-                         const std::string &method) {
+                         const std::string &method, const std::string &config) {
   int status = 0;
   return capture(quote(bin_dir + "/pitvol") + " measure " + quote(file) +
-                     " --json --no-progress --method " + method + " 2>/dev/null",
+                     " --json --no-progress --method " + method +
+                     (config.empty() ? "" : " --config " + quote(config)) + " 2>/dev/null",
                  &status);
 }
 

@@ -36,10 +36,10 @@ std::string capture(const std::string &cmd, int *status);
 // The folder of the running program (where pitvol and the peers are).
 std::string self_dir();
 
-// `pitvol measure FILE --json --no-progress --method METHOD`'s JSON, pitvol
-// from bin_dir ("" when it printed nothing).
+// `pitvol measure FILE --json --no-progress --method METHOD [--config
+// CONFIG]`'s JSON, pitvol from bin_dir ("" when it printed nothing).
 std::string measure_json(const std::string &bin_dir, const std::string &file,
-                         const std::string &method);
+                         const std::string &method, const std::string &config = "");
 
 struct PeerResult {
   std::string status;  // "ok", else why there is no volume

@@ -236,7 +236,7 @@ const char kUsage[] =
     "                       [--peers-cached-only] [--case NAME ...]\n"
     "                       [--peers-max-error PCT] [--grid-mm 1] [--cc-grid-mm 2]\n"
     "                       [--html OUT.html]\n"
-    "       pitvol-accuracy SWEEP_DIR --envelope [--markdown] [--method NAME] [--jobs N]\n"
+    "       pitvol-accuracy SWEEP_DIR --envelope [--markdown] [--method NAME] [--jobs N] [--config FILE]\n"
     "                       [--title TEXT] [--peers LIST] [--peers-cache DIR]\n"
     "                       [--peers-cached-only] [--worst N]\n"
     "       pitvol-accuracy --help\n";
