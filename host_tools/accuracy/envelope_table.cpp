@@ -46,9 +46,10 @@ struct Scan {
   bool is_twin = false;
 };
 
-struct Result {
-  std::string status = "NOT_RUN", check, message;
-  double volume = NAN, interval = NAN, check_value = NAN;
+// pitvol's result for a scan (NOT_RUN until measured).
+struct Result : Measured {
+  Result() { status = "NOT_RUN"; }
+  Result(const Measured &m) : Measured(m) {}  // NOLINT: a Measured is a Result
   bool ok() const { return status == "PV_OK"; }
 };
 
@@ -96,32 +97,18 @@ bool read_sweep(const std::string &dir, std::vector<Scan> *scans, std::string *e
   return !scans->empty();
 }
 
-Result measure(const std::string &bin_dir, const std::string &file, const std::string &method,
-               const std::string &config) {
-  const std::string out = measure_json(bin_dir, file, method, config);
-  Result r;
-  r.status = json_str(out, "status");
-  if (r.status.empty()) r.status = "NO_OUTPUT";
-  r.volume = json_num(out, "volume_cm3");
-  r.interval = json_num(out, "interval_cm3");
-  r.check = json_str(out, "failed_check");
-  r.check_value = json_num(out, "check_value");
-  r.message = json_str(out, "message");
-  return r;
-}
-
 // Why a refusal happened, shortly: the failed check, else the status.
 std::string reason(const Result &r) {
-  std::string s = r.check.empty() ? r.status : r.check;
+  std::string s = r.failed_check.empty() ? r.status : r.failed_check;
   for (const char *p : {"PV_PIT_CHECK_", "PV_ERR_"})
     if (s.rfind(p, 0) == 0) s = s.substr(std::strlen(p));
   return s;
 }
 
-double rel_error(const Scan &s, const Result &r) { return (r.volume - s.exact) / s.exact; }
+double rel_error(const Scan &s, const Result &r) { return (r.volume_cm3 - s.exact) / s.exact; }
 
 bool holds(const Scan &s, const Result &r) {
-  return r.ok() && std::fabs(r.volume - s.exact) <= r.interval;
+  return r.ok() && std::fabs(r.volume_cm3 - s.exact) <= r.interval_cm3;
 }
 
 // Whether a refusal is false, given what the scan should give.
@@ -155,7 +142,7 @@ struct Cell {
       const double e = std::fabs(rel_error(s, r));
       sum_abs += e;
       max_abs = std::max(max_abs, e);
-      if (r.interval > 0) {
+      if (r.interval_cm3 > 0) {
         ++with_interval;
         holding += holds(s, r);
       }
@@ -170,7 +157,7 @@ struct Cell {
     if (twin && twin->ok()) {
       if (r.ok()) {
         ++twins;
-        const double d = std::fabs(r.volume - twin->volume) / s.exact;
+        const double d = std::fabs(r.volume_cm3 - twin->volume_cm3) / s.exact;
         max_twin = std::max(max_twin, d);
         twins_within += d <= kTwinTarget;
       } else {
@@ -290,7 +277,7 @@ int envelope_main(int argc, char **argv) {
   std::atomic<size_t> next{0};
   auto work = [&] {
     for (size_t i = next++; i < scans.size(); i = next++)
-      results[i] = measure(bin_dir, dir + "/" + scans[i].name + ".ply", method, config);
+      results[i] = Result(measure(bin_dir, dir + "/" + scans[i].name + ".ply", method, config));
   };
   std::vector<std::thread> pool;
   for (int j = 0; j < jobs; ++j) pool.emplace_back(work);
@@ -323,11 +310,11 @@ int envelope_main(int argc, char **argv) {
       const Scan &s = scans[i];
       const Result &r = results[i];
       const Result *t = twin_of(s);
-      const double td = t && t->ok() && r.ok() ? 100 * (r.volume - t->volume) / s.exact : NAN;
+      const double td = t && t->ok() && r.ok() ? 100 * (r.volume_cm3 - t->volume_cm3) / s.exact : NAN;
       std::snprintf(b, sizeof b, "%s,%s,%s,%s,%s,%s,%.6f,%s,%s,%.6g,%.6f,%.6f,%.5f,%d,%d,%d,%.5f\n",
                     s.name.c_str(), s.family.c_str(), s.size.c_str(), s.surround.c_str(),
-                    s.condition.c_str(), s.expect.c_str(), s.exact, r.status.c_str(), r.check.c_str(),
-                    r.check_value, r.volume, r.interval, r.ok() ? 100 * rel_error(s, r) : NAN,
+                    s.condition.c_str(), s.expect.c_str(), s.exact, r.status.c_str(), r.failed_check.c_str(),
+                    r.check_value, r.volume_cm3, r.interval_cm3, r.ok() ? 100 * rel_error(s, r) : NAN,
                     int(holds(s, r)), int(false_refusal(s, r)), int(wrong_ok(s, r)), td);
       out << b;
     }
@@ -495,24 +482,24 @@ int envelope_main(int argc, char **argv) {
       what = b;
       bad = 100;
     } else if (wrong_ok(s, r)) {
-      std::snprintf(b, sizeof b, "PV_OK, %+.3f %% +/- %.3f %%", 100 * rel_error(s, r), 100 * r.interval / s.exact);
+      std::snprintf(b, sizeof b, "PV_OK, %+.3f %% +/- %.3f %%", 100 * rel_error(s, r), 100 * r.interval_cm3 / s.exact);
       what = b;
-      bad = 50 + std::min(49.0, std::fabs(r.volume - s.exact) / std::max(1e-9, r.interval));
+      bad = 50 + std::min(49.0, std::fabs(r.volume_cm3 - s.exact) / std::max(1e-9, r.interval_cm3));
     } else if (accuracy_scan(s) && r.ok() && !holds(s, r)) {
       std::snprintf(b, sizeof b, "outside its interval: %+.3f %% +/- %.3f %%", 100 * rel_error(s, r),
-                    100 * r.interval / s.exact);
+                    100 * r.interval_cm3 / s.exact);
       what = b;
-      bad = std::min(49.0, std::fabs(r.volume - s.exact) / std::max(1e-9, r.interval));
+      bad = std::min(49.0, std::fabs(r.volume_cm3 - s.exact) / std::max(1e-9, r.interval_cm3));
     }
     if (t && t->ok()) {
       if (!r.ok() && s.expect == "measure") {
         what += what.empty() ? "" : "; ";
         what += "the 1x twin measured";
-      } else if (r.ok() && std::fabs(r.volume - t->volume) / s.exact > kTwinTarget) {
+      } else if (r.ok() && std::fabs(r.volume_cm3 - t->volume_cm3) / s.exact > kTwinTarget) {
         std::snprintf(b, sizeof b, "%s%+.3f %% from its 1x twin", what.empty() ? "" : "; ",
-                      100 * (r.volume - t->volume) / s.exact);
+                      100 * (r.volume_cm3 - t->volume_cm3) / s.exact);
         what += b;
-        bad = std::max(bad, 1.0 + 100 * std::fabs(r.volume - t->volume) / s.exact);
+        bad = std::max(bad, 1.0 + 100 * std::fabs(r.volume_cm3 - t->volume_cm3) / s.exact);
       }
     }
     if (what.empty()) continue;

@@ -129,13 +129,25 @@ std::string self_dir() {
   return s.substr(0, s.find_last_of('/'));
 }
 
-std::string measure_json(const std::string &bin_dir, const std::string &file,
-                         const std::string &method, const std::string &config) {
+Measured measure(const std::string &bin_dir, const std::string &file, const std::string &method,
+                 const std::string &config) {
   int status = 0;
-  return capture(quote(bin_dir + "/pitvol") + " measure " + quote(file) +
-                     " --json --no-progress --method " + method +
-                     (config.empty() ? "" : " --config " + quote(config)) + " 2>/dev/null",
-                 &status);
+  const std::string out =
+      capture(quote(bin_dir + "/pitvol") + " measure " + quote(file) + " --json --no-progress --method " +
+                  method + (config.empty() ? "" : " --config " + quote(config)) + " 2>/dev/null",
+              &status);
+  Measured m;
+  m.status = json_str(out, "status");
+  if (m.status.empty()) m.status = "NO_OUTPUT";
+  m.failed_check = json_str(out, "failed_check");
+  m.message = json_str(out, "message");
+  m.volume_cm3 = json_num(out, "volume_cm3");
+  m.interval_cm3 = json_num(out, "interval_cm3");
+  m.check_value = json_num(out, "check_value");
+  m.points_in = json_num(out, "points_in");
+  m.points_used = json_num(out, "points_used");
+  m.total_ms = json_num(out, "total");
+  return m;
 }
 
 std::string json_str(const std::string &j, const std::string &key) {

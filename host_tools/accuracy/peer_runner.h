@@ -36,10 +36,16 @@ std::string capture(const std::string &cmd, int *status);
 // The folder of the running program (where pitvol and the peers are).
 std::string self_dir();
 
-// `pitvol measure FILE --json --no-progress --method METHOD [--config
-// CONFIG]`'s JSON, pitvol from bin_dir ("" when it printed nothing).
-std::string measure_json(const std::string &bin_dir, const std::string &file,
-                         const std::string &method, const std::string &config = "");
+// What the accuracy tools read of `pitvol measure FILE --json --no-progress
+// --method METHOD [--config CONFIG]`, pitvol from bin_dir.
+struct Measured {
+  std::string status;  // PV_OK, the failure's name, or NO_OUTPUT
+  std::string failed_check, message;
+  double volume_cm3 = NAN, interval_cm3 = NAN, check_value = NAN;
+  double points_in = NAN, points_used = NAN, total_ms = NAN;
+};
+Measured measure(const std::string &bin_dir, const std::string &file, const std::string &method,
+                 const std::string &config = "");
 
 struct PeerResult {
   std::string status;  // "ok", else why there is no volume

@@ -87,15 +87,14 @@ bool read_manifest(const std::string &dir, std::vector<Case> *cases) {
 
 Outcome measure(const std::string &bin_dir, const std::string &file, const std::string &method,
                 double exact_cm3) {
-  const std::string out = pv::tools::measure_json(bin_dir, file, method);
+  const pv::tools::Measured m = pv::tools::measure(bin_dir, file, method);
   Outcome o;
-  o.status = json_str(out, "status");
-  if (o.status.empty()) o.status = "NO_OUTPUT";
-  o.volume_cm3 = json_num(out, "volume_cm3");
-  o.points_in = json_num(out, "points_in");
-  o.points_used = json_num(out, "points_used");
-  o.total_ms = json_num(out, "total");
-  o.interval_cm3 = json_num(out, "interval_cm3");
+  o.status = m.status;
+  o.volume_cm3 = m.volume_cm3;
+  o.points_in = m.points_in;
+  o.points_used = m.points_used;
+  o.total_ms = m.total_ms;
+  o.interval_cm3 = m.interval_cm3;
   o.exact_cm3 = exact_cm3;
   if (o.status == "PV_OK") o.error = (o.volume_cm3 - exact_cm3) / exact_cm3;
   return o;
