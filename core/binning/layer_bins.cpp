@@ -11,7 +11,8 @@ size_t LayerBins::bytes_needed(uint32_t layers, uint32_t capacity, bool ranks) {
          size_t(layers) * sizeof(uint8_t) + (ranks ? size_t(layers) * capacity : 0);
 }
 
-void LayerBins::init(void *memory, uint32_t layers, uint32_t capacity, bool ranks) {
+void LayerBins::init(void *memory, uint32_t layers, uint32_t capacity, bool ranks,
+                     uint32_t floor_layers) {
   auto *bytes = static_cast<unsigned char *>(memory);
   slots_ = reinterpret_cast<P3 *>(bytes);
   bytes += size_t(layers) * capacity * sizeof(P3);
@@ -22,6 +23,7 @@ void LayerBins::init(void *memory, uint32_t layers, uint32_t capacity, bool rank
   ranks_ = ranks ? bytes : nullptr;
   layers_ = layers;
   capacity_ = capacity;
+  floor_layers_ = floor_layers;
   clear();
 }
 
@@ -30,6 +32,7 @@ void LayerBins::clear() {
   std::memset(levels_, 0, size_t(layers_));
   stored_ = 0;
   thinned_ = 0;
+  floor_ = 0;
 }
 
 // A full bin: halve it (raise its level) until the point is rejected or fits.
@@ -53,9 +56,20 @@ bool LayerBins::insert_full(uint32_t j, const P3 &p, uint64_t hash) {
 void LayerBins::raise_level(uint32_t j) {
   // Level 63 keeps only hash 0 or 1: a bin that full of identical-hash
   // points is pathological; stop raising and let passes() reject.
-  if (levels_[j] < 63) ++levels_[j];
+  thin_to(j, levels_[j] < 63 ? uint8_t(levels_[j] + 1) : uint8_t(63));
+  if (counts_[j] == capacity_ && levels_[j] == 63) {  // cannot thin further: empty
+    stored_ -= counts_[j];
+    thinned_ += counts_[j];
+    counts_[j] = 0;
+  }
+  if (levels_[j] == floor_ + 1) raise_floor();
+}
+
+// Bin j at `level` (not lower than it is): its points below it dropped.
+void LayerBins::thin_to(uint32_t j, uint8_t level) {
+  if (level <= levels_[j]) return;
+  levels_[j] = level;
   P3 *bin = slots_ + size_t(j) * capacity_;
-  const uint8_t level = levels_[j];
   const uint32_t n = counts_[j];
   uint32_t kept = 0;
   if (ranks_ != nullptr) {
@@ -75,10 +89,21 @@ void LayerBins::raise_level(uint32_t j) {
   stored_ -= dropped;
   thinned_ += dropped;
   counts_[j] = kept;
-  if (kept == capacity_ && levels_[j] == 63) {  // cannot thin further: empty
-    stored_ -= kept;
-    thinned_ += kept;
-    counts_[j] = 0;
+}
+
+// The floor is the highest level that floor_layers bins have reached; when
+// it rises, every bin below it thins to it. Only a bin reaching floor + 1
+// can lift it, so the bins are counted then (no table per level: the MCU
+// profile's block has no room).
+void LayerBins::raise_floor() {
+  if (floor_layers_ == 0) return;
+  while (floor_ < 63) {
+    const uint8_t next = uint8_t(floor_ + 1);
+    uint32_t at_next = 0;
+    for (uint32_t j = 0; j < layers_; ++j) at_next += levels_[j] >= next ? 1 : 0;
+    if (at_next < floor_layers_) return;
+    floor_ = next;
+    for (uint32_t j = 0; j < layers_; ++j) thin_to(j, next);
   }
 }
 

@@ -8,6 +8,15 @@
 // survive depends only on the points, not on their order, and a 10-million
 // point scan uses the same memory as a 100-thousand point scan.
 //
+// A floor under the levels (floor_layers > 0): a bin never keeps points at
+// a higher rate than the floor_layers-th densest bin's level. Without it a
+// bin that few points reach (far strays above the rim, in layers of their
+// own) keeps every one while the wall's bins halve again and again, so a
+// scan ten times as long stored ten times the strays against the same wall
+// and its rim-plane tops were all strays (a bowl +1.35 % with PV_OK). The
+// floor rises only when floor_layers bins have filled at a higher level,
+// a function of the points alone: still independent of their order.
+//
 // Raising a level used to hash every point of the bin again (issue 12: 7 %
 // of the ingest's instructions). With ranks, the bin keeps one byte per
 // slot beside the point, the number of leading zero bits of its hash (the
@@ -30,7 +39,9 @@ class LayerBins {
   // ranks: keep each slot's rank (one byte more per slot, see above).
   static size_t bytes_needed(uint32_t layers, uint32_t capacity, bool ranks = false);
   // memory: bytes_needed() bytes (the same ranks), aligned for P3 and uint32_t.
-  void init(void *memory, uint32_t layers, uint32_t capacity, bool ranks = false);
+  // floor_layers: 0 for no floor (see above).
+  void init(void *memory, uint32_t layers, uint32_t capacity, bool ranks = false,
+            uint32_t floor_layers = 0);
   void clear();
 
   // Stores p in bin j (j < layers()). Returns false if the bin's level
@@ -60,6 +71,7 @@ class LayerBins {
   const P3 *points(uint32_t j) const { return slots_ + size_t(j) * capacity_; }
   uint64_t stored() const { return stored_; }
   uint64_t thinned() const { return thinned_; }  // dropped by bin levels
+  uint8_t floor_level() const { return floor_; }
 
   // The top `level` bits of the hash are zero (level 0: every hash), as
   // one shift by 63 - level of hash >> 1: no branch on level 0.
@@ -76,6 +88,8 @@ class LayerBins {
  private:
   bool insert_full(uint32_t j, const P3 &p, uint64_t hash);
   void raise_level(uint32_t j);
+  void thin_to(uint32_t j, uint8_t level);
+  void raise_floor();
   P3 *slots_ = nullptr;
   uint32_t *counts_ = nullptr;
   uint8_t *levels_ = nullptr;
@@ -84,6 +98,8 @@ class LayerBins {
   uint32_t capacity_ = 0;
   uint64_t stored_ = 0;
   uint64_t thinned_ = 0;
+  uint32_t floor_layers_ = 0;
+  uint8_t floor_ = 0;
 };
 
 }  // namespace pv::binning

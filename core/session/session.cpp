@@ -83,6 +83,12 @@ void establish_transform(pv_session *s) {
 // Stored points from which the surface model keeps each point's theta bin
 // between its passes even where that grows the block.
 constexpr size_t kThetaCacheMinPoints = 100000;
+// The bins' thinning floor (binning/layer_bins.h): no bin keeps points at a
+// higher rate than the 64th densest (32 mm of wall at 0.5 mm layers, under
+// half the shallowest pit's). Single scans of the standard set never lift
+// it (every bin but a few at level 0 or 1); a scan ten times as long lifts
+// it to level 3, and the strays' share of the store stays the stream's.
+constexpr uint32_t kThinFloorLayers = 64;
 // Stored points (slots) from which the bins keep their points' ranks.
 constexpr size_t kRanksMinPoints = 100000;
 
@@ -109,7 +115,7 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   const bool ranks = slots >= kRanksMinPoints;
   void *bins_mem =
       cv.take<unsigned char>(binning::LayerBins::bytes_needed(layers, c.points_per_layer, ranks));
-  if (block != nullptr) o->bins.init(bins_mem, layers, c.points_per_layer, ranks);
+  if (block != nullptr) o->bins.init(bins_mem, layers, c.points_per_layer, ranks, kThinFloorLayers);
   o->layer_start = cv.take<uint32_t>(layers + 1);
   o->layer_weight = cv.take<double>(layers);
   o->seq_z = cv.take<double>(layers);

@@ -91,6 +91,61 @@ void ranks_keep_the_same_points_in_the_same_order(void **) {
   assert_int_equal(pv::binning::LayerBins::rank(~uint64_t(0)), 0);
 }
 
+// The floor: 8 dense bins (wall layers) at 2,000 points each against 64
+// slots, one sparse bin (a stray's layer) at 40. Without a floor the sparse
+// bin keeps all 40 while the dense ones keep one point in 32 or fewer; with a
+// floor of 4 bins it thins at the dense bins' rate, and what survives still
+// does not depend on the order the points came in.
+struct Stream {
+  uint32_t bin;
+  pv::P3 p;
+};
+std::vector<Stream> dense_and_sparse() {
+  std::vector<Stream> s;
+  for (uint32_t j = 0; j < 8; ++j) {
+    for (int i = 0; i < 2000; ++i) s.push_back({j, pv::P3{float(i) * 0.01f, float(j), 2.0f}});
+  }
+  for (int i = 0; i < 40; ++i) s.push_back({8, pv::P3{float(i) * 0.37f, 8.0f, 5.0f}});
+  return s;
+}
+void fill(pv::binning::LayerBins &b, const std::vector<Stream> &s) {
+  for (const Stream &x : s) b.insert(x.bin, x.p, pv::point_hash(x.p));
+}
+
+void a_sparse_bin_thins_at_the_dense_bins_rate(void **) {
+  const size_t bytes = pv::binning::LayerBins::bytes_needed(9, 64);
+  std::vector<unsigned char> m0(bytes), m1(bytes), m2(bytes);
+  pv::binning::LayerBins none, a, b;
+  none.init(m0.data(), 9, 64);
+  a.init(m1.data(), 9, 64, false, 4);
+  b.init(m2.data(), 9, 64, false, 4);
+  auto s = dense_and_sparse();
+  fill(none, s);
+  assert_int_equal(none.count(8), 40);
+  assert_int_equal(none.level(8), 0);
+  fill(a, s);
+  // 2,000 -> <= 64 slots needs level >= 5 in every dense bin.
+  assert_true(a.floor_level() >= 5);
+  for (uint32_t j = 0; j < 8; ++j) assert_true(a.level(j) >= a.floor_level());
+  assert_int_equal(a.level(8), a.floor_level());
+  assert_true(a.count(8) < 40 / 8);  // 40 points at 1 in 32: a few at most
+  size_t passing = 0;
+  for (int i = 0; i < 40; ++i) {
+    passing += pv::binning::LayerBins::passes(pv::point_hash(s[s.size() - 40 + size_t(i)].p), a.level(8));
+  }
+  assert_int_equal(passing, a.count(8));
+  assert_int_equal(a.stored() + a.thinned(), s.size());
+  // The sparse bin first, the dense bins interleaved: the same survivors.
+  std::rotate(s.begin(), s.end() - 40, s.end());
+  for (size_t i = 40; i + 7 < s.size(); i += 7) std::swap(s[i], s[s.size() - 1 - (i - 40)]);
+  fill(b, s);
+  assert_int_equal(a.floor_level(), b.floor_level());
+  for (uint32_t j = 0; j < 9; ++j) {
+    assert_int_equal(a.level(j), b.level(j));
+    assert_true(hashes_in(a, j) == hashes_in(b, j));
+  }
+}
+
 void clear_forgets_everything(void **) {
   std::vector<unsigned char> mem(pv::binning::LayerBins::bytes_needed(2, 64));
   pv::binning::LayerBins bins;
@@ -109,6 +164,7 @@ int main() {
       cmocka_unit_test(a_full_bin_thins_in_place_and_never_overflows),
       cmocka_unit_test(kept_points_do_not_depend_on_order),
       cmocka_unit_test(ranks_keep_the_same_points_in_the_same_order),
+      cmocka_unit_test(a_sparse_bin_thins_at_the_dense_bins_rate),
       cmocka_unit_test(clear_forgets_everything),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
