@@ -199,6 +199,44 @@ bool ground_rim(pv_session *s, const levelling::Transform &t, double *rim_mm) {
   return g.found;
 }
 
+// The most the pit's volume can be, mm3, from the levelled sample: the
+// cylinder around its points (99 % of them by radius from their centre,
+// 99 % by height). A scan in centimetres or metres stops here with
+// PV_PIT_CHECK_TOO_SMALL: its rim and floor, ten or a thousand times
+// small, fail the later stages with advice that does not say what to do.
+// Only a pit's proportions qualify: a cylinder at least kMinDepthPerRadius
+// as deep as wide (the widest, shallowest pits in the sweeps: 0.09 with
+// their ground ring); a flat plate is not a small pit, it has no rim.
+// Returns a negative bound for what is too flat to be a pit.
+constexpr double kMinDepthPerRadius = 0.03;
+double volume_bound_mm3(pv_session *s, const levelling::Transform &t) {
+  const uint32_t n = s->sample.size();
+  if (n < 16) return -1.0;
+  double cx = 0.0, cy = 0.0;
+  for (uint32_t i = 0; i < n; ++i) {
+    s->lv.a[i] = t.apply(s->sample_points[i]);
+    cx += s->lv.a[i].x();
+    cy += s->lv.a[i].y();
+  }
+  cx /= double(n);
+  cy /= double(n);
+  double *v = s->lv.v;
+  const auto quantile = [v, n](double q) {
+    const size_t k = size_t(q * double(n - 1));
+    std::nth_element(v, v + k, v + n);
+    return v[k];
+  };
+  for (uint32_t i = 0; i < n; ++i) v[i] = s->lv.a[i].z();
+  const double z_lo = quantile(0.005), z_hi = quantile(0.995);
+  for (uint32_t i = 0; i < n; ++i) {  // squared radii: no libm call, the same bits everywhere
+    const double dx = s->lv.a[i].x() - cx, dy = s->lv.a[i].y() - cy;
+    v[i] = dx * dx + dy * dy;
+  }
+  const double r2 = quantile(0.99), depth = z_hi - z_lo;
+  if (depth * depth < kMinDepthPerRadius * kMinDepthPerRadius * r2) return -1.0;
+  return 3.14159265358979323846 * r2 * depth;
+}
+
 // Coverage per height band for the per-layer methods: the share of a band's
 // layers whose contour was usable and kept by the cleanup.
 void layer_coverage(const pv_session *s, double rim_mm, pv_result_t *out) {
@@ -238,6 +276,13 @@ pv_status_t measure(pv_session *s, pv_result_t *out) {
   if (st != PV_OK) return fail(st);
   out->tilt_deg = t.tilt_deg();
   if (out->tilt_deg > 30.0 && out->tilt_deg < 150.0) out->warnings |= PV_WARN_LARGE_TILT;
+  const double bound_cm3 = volume_bound_mm3(s, t) / 1000.0;
+  if (bound_cm3 >= 0.0 && bound_cm3 < kMinVolumeCm3) {
+    out->failed_check = PV_PIT_CHECK_TOO_SMALL;
+    out->check_value = bound_cm3;
+    out->check_limit = kMinVolumeCm3;
+    return fail(PV_ERR_NOT_A_PIT);
+  }
 
   // Method surface levels on the ground or the rim plane (level_surface.cpp).
   double surface_rim_mm = -1.0;

@@ -169,7 +169,7 @@ void widest_unseen_band(const pv_result_t &r, double rim_mm, double *from, doubl
 pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m, bool ghost_checks,
                          bool floor_check, double rim_area_mm2, double max_section_mm2,
                          double tilt_deg, double max_tilt_deg, double max_radius_mm,
-                         pv_result_t *out) {
+                         double volume_mm3, pv_result_t *out) {
   const auto refuse = [out](pv_pit_check_t c, double value, double limit) {
     out->failed_check = c;
     out->check_value = value;
@@ -177,6 +177,11 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
     return c;
   };
   if (occ.points == 0) return refuse(PV_PIT_CHECK_NO_POINTS, 0, 0);
+  // First: a scan in the wrong units fails other checks too, and only this
+  // one says what to do.
+  if (volume_mm3 / 1000.0 < kMinVolumeCm3) {
+    return refuse(PV_PIT_CHECK_TOO_SMALL, volume_mm3 / 1000.0, kMinVolumeCm3);
+  }
   const double inside_share = double(occ.inside) / double(occ.points);
   if (inside_share > kMaxInsideShare) {
     return refuse(PV_PIT_CHECK_POINTS_INSIDE, inside_share, kMaxInsideShare);
@@ -259,7 +264,7 @@ pv_status_t build_and_check(pv_session *s, const levelling::Transform &t, double
   const bool floor_check = ghost_checks && s->cfg.method == PV_METHOD_SURFACE;
   if (check_pit(occ, c->m, ghost_checks, floor_check, c->v.rim_area_mm2, max_section, out->tilt_deg,
                 double(s->cfg.max_opening_tilt_deg), double(s->cfg.surface_max_radius_mm),
-                out) != PV_PIT_CHECK_NONE) {
+                c->v.volume_mm3, out) != PV_PIT_CHECK_NONE) {
     return PV_ERR_NOT_A_PIT;
   }
   return PV_OK;

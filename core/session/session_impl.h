@@ -66,6 +66,14 @@ inline uint32_t grid_layers(const pv_config_t &c) {
 // larger store instead of their layer bins: pv_config_t.surface_floor_points
 // (65,536 by default; a full store thins itself like a layer bin).
 constexpr double kFloorStoreTopMm = 20.0;
+// The smallest test hole: ASTM D1556 asks at least 710 cm3 (maximum particle
+// 4.75 mm), BS 1377's small pouring cylinder digs about 1.2 L. Files carry
+// no units: a pit scanned in centimetres and read as millimetres comes out
+// 1000 times small (a 0.5 m3 pit as 0.5 L), in metres 10^9 times. Below
+// 600 cm3 the scan is refused with its units named, never measured
+// (PV_PIT_CHECK_TOO_SMALL: measure.cpp before the model, from a bound;
+// measure_surface.cpp after it, from the volume).
+constexpr double kMinVolumeCm3 = 600.0;
 
 // The surface model's grids (method surface, and paper's and polar's
 // plausibility checks): the whole depth range, and pits up to

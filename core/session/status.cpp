@@ -79,6 +79,7 @@ extern "C" const char *pv_pit_check_name(uint32_t check) {
     case PV_PIT_CHECK_SECTIONS: return "PV_PIT_CHECK_SECTIONS";
     case PV_PIT_CHECK_DOUBLED_WALL: return "PV_PIT_CHECK_DOUBLED_WALL";
     case PV_PIT_CHECK_DOUBLED_FLOOR: return "PV_PIT_CHECK_DOUBLED_FLOOR";
+    case PV_PIT_CHECK_TOO_SMALL: return "PV_PIT_CHECK_TOO_SMALL";
     default: return "PV_PIT_CHECK_UNKNOWN";
   }
 }
@@ -115,6 +116,9 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
              "pit twice, registered apart (the scanner lost its tracking "
              "during the scan), or loose soil covers the floor; clear the "
              "floor and scan the pit again in one steady pass";
+    case PV_PIT_CHECK_TOO_SMALL:
+      return "smaller than any test hole: a scan in centimetres or metres "
+             "read as millimetres (give the file's units), or not a test pit";
     default: return "unknown check";
   }
 }

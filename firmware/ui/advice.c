@@ -147,6 +147,10 @@ void pv_advice_refusal(const pv_result_t *r, pv_status_t st, pv_advice_t *out) {
         case PV_PIT_CHECK_SECTIONS:
           snprintf(why, cw, "layer outlines inconsistent");
           return;
+        case PV_PIT_CHECK_TOO_SMALL:
+          snprintf(why, cw, "only %.3g cm3: not a test hole", r->check_value);
+          snprintf(todo, ct, "check the scan's units");
+          return;
         case PV_PIT_CHECK_DOUBLED_WALL:
         case PV_PIT_CHECK_DOUBLED_FLOOR:
           /* The scan holds the pit twice: the scanner lost its tracking. */

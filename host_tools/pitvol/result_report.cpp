@@ -120,6 +120,12 @@ std::string check_figures(const pv_result_t &r) {
                     "across them (one scan: at most %.0f %%)",
                     100 * r.check_value, 100 * r.check_limit);
       break;
+    case PV_PIT_CHECK_TOO_SMALL:
+      std::snprintf(b, sizeof b,
+                    "%.3g cm3 as millimetres (the smallest test hole: %.0f cm3); in cm it would be "
+                    "%.4g cm3: --units cm",
+                    r.check_value, r.check_limit, 1000 * r.check_value);
+      break;
     case PV_PIT_CHECK_DOUBLED_FLOOR:
       std::snprintf(b, sizeof b,
                     "%.1f %% of the floor's points lie a few mm above it (one scan: at most %.1f %%)",

@@ -88,9 +88,12 @@ typedef enum pv_pit_check {
                                      the share across them (two copies a
                                      rigid shift apart); limit: the most a
                                      single scan shows */
-  PV_PIT_CHECK_DOUBLED_FLOOR = 8  /* value: the share of the floor's points a
+  PV_PIT_CHECK_DOUBLED_FLOOR = 8, /* value: the share of the floor's points a
                                      few mm above it; limit: the most a
                                      single scan shows */
+  PV_PIT_CHECK_TOO_SMALL = 9      /* value: the volume, cm3; limit: the
+                                     smallest test hole (below the standards'
+                                     smallest: a scan in cm or m read as mm) */
 } pv_pit_check_t;
 /* "PV_PIT_CHECK_POINTS_INSIDE", ... */
 const char *pv_pit_check_name(uint32_t check);

@@ -78,6 +78,9 @@ void expect_refused(const std::vector<pv_point_t> &pts, const char *what,
     case PV_PIT_CHECK_NARROW_MOUTH:
       if (!(o.r.check_value < o.r.check_limit)) fail_msg("[%s] %s: mouth %g", pv_method_name(g_method), what, o.r.check_value);
       break;
+    case PV_PIT_CHECK_TOO_SMALL:
+      if (!(o.r.check_value < o.r.check_limit)) fail_msg("[%s] %s: volume %g cm3", pv_method_name(g_method), what, o.r.check_value);
+      break;
     case PV_PIT_CHECK_NO_POINTS: break;
     default: fail_msg("[%s] %s: PV_ERR_NOT_A_PIT without a check (%u)", pv_method_name(g_method), what, o.r.failed_check);
   }
@@ -184,6 +187,43 @@ void one_pit_measures(void **) {
   assert_int_equal(o.r.failed_check, PV_PIT_CHECK_NONE);
 }
 
+// Files carry no units. The same pit written in centimetres (7.85 L read
+// as 7.85 cm3) is refused TOO_SMALL with its figure, never measured; a
+// 1 L hole (radius 50 mm, 130 mm deep: the smallest test holes) in
+// millimetres measures.
+void pit_in_centimetres_is_refused(void **) {
+  Rng g{7};
+  std::vector<pv_point_t> v;
+  add_pit(g, 0, 150000, &v);
+  for (pv_point_t &p : v) p = P(0.1 * p.x_mm, 0.1 * p.y_mm, 0.1 * p.z_mm);
+  expect_refused(v, "a pit in cm", PV_PIT_CHECK_TOO_SMALL);
+  const Outcome o = measure(v);
+  assert_true(std::fabs(o.r.check_value - kPi * 100 * 100 * 250 / 1e6) < 0.2);
+}
+
+void one_litre_hole_measures(void **) {
+  Rng g{9};
+  std::vector<pv_point_t> v;
+  for (int i = 0; i < 100000; ++i) {
+    const double u = g.uniform(), t = 2 * kPi * g.uniform();
+    if (u < 0.3) {
+      const double r = 50 * std::sqrt(g.uniform());
+      v.push_back(P(r * std::cos(t), r * std::sin(t), 0.1 * g.gauss()));
+    } else {
+      v.push_back(P(50 * std::cos(t), 50 * std::sin(t), 130 * g.uniform()));
+    }
+  }
+  const Outcome o = measure(v);
+  if (o.status != PV_OK) {
+    fail_msg("[%s] 1 L hole: %s %s (%g against %g)", pv_method_name(g_method), pv_status_name(o.status),
+             pv_pit_check_name(o.r.failed_check), o.r.check_value, o.r.check_limit);
+  }
+  const double exact = kPi * 50 * 50 * 130 / 1000.0;
+  if (std::fabs(o.r.volume_cm3 - exact) > 0.01 * exact) {
+    fail_msg("[%s] 1 L hole: %g cm3 against %g", pv_method_name(g_method), o.r.volume_cm3, exact);
+  }
+}
+
 // A wall grooved all round (3 mm deep, 2 mm tall, every 5 mm: tool marks)
 // puts a second surface behind the first in 0.40 of the wall's bins, like
 // a scan registered twice, which the doubled-wall check's first form (the
@@ -229,6 +269,8 @@ int main() {
       PV_EACH_METHOD(trench_wider_than_the_grids_is_refused),
       PV_EACH_METHOD(one_pit_measures),
       PV_EACH_METHOD(grooved_pit_measures),
+      PV_EACH_METHOD(pit_in_centimetres_is_refused),
+      PV_EACH_METHOD(one_litre_hole_measures),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
