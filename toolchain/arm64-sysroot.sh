@@ -24,6 +24,11 @@ dir=${1:-$here/../build-sysroot/arm64}
 mkdir -p "$dir/debs"
 dir=$(cd "$dir" && pwd)
 
+# Header-only libraries of the host tools (JSON, command lines): packages
+# of Architecture: all, downloaded without ":arm64" (apt has no arm64
+# candidate for them). From the sysroot, not the host: their CMake files
+# would add the host's /usr/include, which a cross compile must not search.
+arch_all=(nlohmann-json3-dev libcli11-dev)
 packages=(
   # The C and C++ runtime the programs run with under qemu (-L root).
   libc6 libgcc-s1 libstdc++6 gcc-12-base
@@ -37,6 +42,7 @@ packages=(
   libcap2 libgcrypt20 libgpg-error0 liblz4-1 liblzma5 libzstd1
   libglib2.0-dev libglib2.0-0 libmount1 libblkid1 libselinux1
   libffi-dev libffi8 libpcre2-dev libpcre2-8-0 libpcre2-16-0 libpcre2-32-0 libpcre2-posix3  # GLib's .pc files name them
+  "${arch_all[@]}"
 )
 
 stamp_text=$(printf '%s\n' "${packages[@]}" | cat - "$0" | sha256sum | cut -d' ' -f1)
@@ -56,7 +62,8 @@ fi
 cd "$dir/debs"
 missing=()
 for p in "${packages[@]}"; do
-  compgen -G "${p}_*_arm64.deb" >/dev/null || compgen -G "${p}_*_all.deb" >/dev/null || missing+=("$p:arm64")
+  compgen -G "${p}_*_arm64.deb" >/dev/null || compgen -G "${p}_*_all.deb" >/dev/null && continue
+  if [[ " ${arch_all[*]} " == *" $p "* ]]; then missing+=("$p"); else missing+=("$p:arm64"); fi
 done
 if [ ${#missing[@]} -gt 0 ]; then
   echo "pitvol: downloading ${#missing[@]} arm64 packages into $dir/debs" >&2

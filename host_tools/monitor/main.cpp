@@ -28,7 +28,7 @@
 #include <unistd.h>
 
 #include "host_link.h"
-#include "pitvol/json_writer.h"
+#include "pitvol/json.h"
 #include "pitvol/user_input.h"
 #include "report.h"
 
@@ -287,14 +287,15 @@ int watch(HostLink &link, const Options &opt) {
     const uint32_t seq = m.which_body == pitvol_Message_ack_tag ? m.body.ack.command_seq : m.body.nack.command_seq;
     if (seq != commands.front().seq) return;
     const std::string &c = commands.front().text;
-    pv::tools::JsonObject o;
-    o.str("type", m.which_body == pitvol_Message_ack_tag ? "ack" : "nack").str("command", c);
-    if (m.which_body == pitvol_Message_ack_tag)
-      Printer::line(opt.json ? o.text() : "ok       " + pv::monitor::printable(c));
-    else
-      Printer::line(opt.json ? o.str("reason", m.body.nack.reason).text()
+    pv::tools::Json o = {{"type", m.which_body == pitvol_Message_ack_tag ? "ack" : "nack"}, {"command", c}};
+    if (m.which_body == pitvol_Message_ack_tag) {
+      Printer::line(opt.json ? pv::tools::json_line(o) : "ok       " + pv::monitor::printable(c));
+    } else {
+      o["reason"] = std::string(m.body.nack.reason);
+      Printer::line(opt.json ? pv::tools::json_line(o)
                              : "refused  " + pv::monitor::printable(c) + ": " +
                                    pv::monitor::printable(m.body.nack.reason));
+    }
     commands.pop_front();
   };
   const auto handle = [&](const pv_link_rx_t &rx) {

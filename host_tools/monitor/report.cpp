@@ -1,6 +1,6 @@
-// pitvol-monitor output (see report.h). JSON numbers use %.17g like
-// pitvol --json; CSV the shortest decimal that reads back the same. Either
-// way a value read back is the value the board sent.
+// pitvol-monitor output (see report.h). JSON (nlohmann/json, as pitvol
+// --json) and CSV print a number as the shortest decimal that reads back the
+// same, so a value read back is the value the board sent.
 #include "report.h"
 
 #include <cinttypes>
@@ -12,14 +12,15 @@
 #include "pitvol/advice.h"
 #include "pitvol/density.h"
 #include "pitvol/pitvol.h"
-#include "pitvol/json_writer.h"
+#include "pitvol/json.h"
 #include "pitvol/result_report.h"
 
 namespace pv::monitor {
 
 namespace {
 
-using pv::tools::JsonObject;
+using pv::tools::Json;
+using pv::tools::json_line;
 
 std::string fmt(const char *f, double v) {
   char b[64];
@@ -112,14 +113,16 @@ std::string warnings_text(const pitvol_Result &r) {
   return ", warnings: " + head + lines + (notes.empty() ? "" : "\n         notes: " + notes);
 }
 
-void warnings_json(JsonObject &o, const pitvol_Result &r) {
+void warnings_json(Json &o, const pitvol_Result &r) {
   const uint32_t attention = pv_warnings_attention(r.warnings, r.unseen_share);
   std::vector<std::string> warnings, notes;
   for (uint32_t bit = 1; bit <= PV_WARN_ALL; bit <<= 1) {
     if (!(r.warnings & bit) || pv_warning_message(bit) == nullptr) continue;
     (attention & bit ? warnings : notes).push_back(pv_warning_message(bit));
   }
-  o.strings("warnings", warnings).strings("notes", notes).integer("warning_bits", r.warnings);
+  o["warnings"] = warnings;
+  o["notes"] = notes;
+  o["warning_bits"] = r.warnings;
 }
 
 // Names of every set bit, space-separated, for a CSV cell.
@@ -131,26 +134,27 @@ std::string warning_names(uint32_t bits) {
   return t;
 }
 
-void density_json(JsonObject &o, const pitvol_Result &r) {
+void density_json(Json &o, const pitvol_Result &r) {
   const pitvol_Density &d = r.density;
-  o.integer("density_flags", d.flags);
+  const bool open = d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED;
+  o["density_flags"] = d.flags;
   if (d.flags & pitvol_DensityFlag_DENSITY_WET) {
-    o.num("mass_g", d.mass_g).num("wet_kg_m3", d.wet_kg_m3).num("wet_low_kg_m3", d.wet_low_kg_m3);
-    if (d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED) o.null("wet_high_kg_m3");
-    else o.num("wet_high_kg_m3", d.wet_high_kg_m3);
+    o["mass_g"] = d.mass_g;
+    o["wet_kg_m3"] = d.wet_kg_m3;
+    o["wet_low_kg_m3"] = d.wet_low_kg_m3;
+    o["wet_high_kg_m3"] = open ? Json() : Json(d.wet_high_kg_m3);
   }
   if (d.flags & pitvol_DensityFlag_DENSITY_DRY) {
-    o.num("moisture_percent", d.moisture_percent).num("dry_kg_m3", d.dry_kg_m3)
-        .num("dry_low_kg_m3", d.dry_low_kg_m3);
-    if (d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED) o.null("dry_high_kg_m3");
-    else o.num("dry_high_kg_m3", d.dry_high_kg_m3);
+    o["moisture_percent"] = d.moisture_percent;
+    o["dry_kg_m3"] = d.dry_kg_m3;
+    o["dry_low_kg_m3"] = d.dry_low_kg_m3;
+    o["dry_high_kg_m3"] = open ? Json() : Json(d.dry_high_kg_m3);
   }
   if (d.flags & pitvol_DensityFlag_DENSITY_COMPACTION) {
-    o.num("reference_max_dry_kg_m3", d.reference_max_dry_kg_m3)
-        .num("compaction_percent", d.compaction_percent)
-        .num("compaction_low_percent", d.compaction_low_percent);
-    if (d.flags & pitvol_DensityFlag_DENSITY_UNBOUNDED) o.null("compaction_high_percent");
-    else o.num("compaction_high_percent", d.compaction_high_percent);
+    o["reference_max_dry_kg_m3"] = d.reference_max_dry_kg_m3;
+    o["compaction_percent"] = d.compaction_percent;
+    o["compaction_low_percent"] = d.compaction_low_percent;
+    o["compaction_high_percent"] = open ? Json() : Json(d.compaction_high_percent);
   }
 }
 
@@ -220,12 +224,15 @@ std::string hello_text(const pitvol_Hello &h) {
 }
 
 std::string hello_json(const pitvol_Hello &h) {
-  JsonObject o;
-  o.str("type", "hello").integer("protocol_version", h.protocol_version)
-      .str("firmware_version", h.firmware_version).str("device_id", h.device_id)
-      .integer("capabilities", h.capabilities).integer("max_frame_bytes", h.max_frame_bytes)
-      .integer("first_result_id", h.first_result_id).integer("last_result_id", h.last_result_id);
-  return o.text();
+  const Json o = {{"type", "hello"},
+                  {"protocol_version", h.protocol_version},
+                  {"firmware_version", std::string(h.firmware_version)},
+                  {"device_id", std::string(h.device_id)},
+                  {"capabilities", h.capabilities},
+                  {"max_frame_bytes", h.max_frame_bytes},
+                  {"first_result_id", h.first_result_id},
+                  {"last_result_id", h.last_result_id}};
+  return json_line(o);
 }
 
 std::string status_text(const pitvol_Status &s) {
@@ -240,17 +247,20 @@ std::string status_text(const pitvol_Status &s) {
 }
 
 std::string status_json(const pitvol_Status &s) {
-  JsonObject o;
-  o.str("type", "status").str("state", state_name(s.state)).integer("points", s.points)
-      .num("running_volume_cm3", s.running_volume_cm3)
-      .num("running_interval_cm3", s.running_interval_cm3);
-  std::string cov = "[";
-  for (pb_size_t i = 0; i < s.coverage_count; ++i) cov += (i ? "," : "") + fmt("%.3f", double(s.coverage[i]));
-  o.raw("coverage", cov + "]").integer("last_result_id", s.last_result_id);
-  if (s.mass_set) o.num("mass_g", s.mass_g); else o.null("mass_g");
-  if (s.moisture_set) o.num("moisture_percent", s.moisture_percent); else o.null("moisture_percent");
-  o.integer("frames_corrupt", s.frames_corrupt);
-  return o.text();
+  Json coverage = Json::array();
+  for (pb_size_t i = 0; i < s.coverage_count; ++i)
+    coverage.push_back(pv::tools::json_decimals(double(s.coverage[i]), 3));
+  const Json o = {{"type", "status"},
+                  {"state", state_name(s.state)},
+                  {"points", s.points},
+                  {"running_volume_cm3", s.running_volume_cm3},
+                  {"running_interval_cm3", s.running_interval_cm3},
+                  {"coverage", coverage},
+                  {"last_result_id", s.last_result_id},
+                  {"mass_g", s.mass_set ? Json(s.mass_g) : Json()},
+                  {"moisture_percent", s.moisture_set ? Json(s.moisture_percent) : Json()},
+                  {"frames_corrupt", s.frames_corrupt}};
+  return json_line(o);
 }
 
 std::string result_text(const pitvol_Result &r) {
@@ -292,41 +302,47 @@ std::string result_text(const pitvol_Result &r) {
 }
 
 std::string result_json(const pitvol_Result &r) {
-  JsonObject o;
-  o.str("type", "result").integer("id", r.id).integer("time_unix_s", r.time_unix_s)
-      .str("time_utc", utc(r.time_unix_s)).str("status", status_name(r.status))
-      .str("method", r.method);
-  if (r.status == 0) {
-    o.num("volume_cm3", r.volume_cm3).num("interval_cm3", r.interval_cm3).num("depth_mm", r.depth_mm);
-  } else {
-    o.null("volume_cm3").null("interval_cm3").null("depth_mm");
-  }
+  const bool ok = r.status == 0;
+  Json o = {{"type", "result"},
+            {"id", r.id},
+            {"time_unix_s", r.time_unix_s},
+            {"time_utc", utc(r.time_unix_s)},
+            {"status", status_name(r.status)},
+            {"method", std::string(r.method)},
+            {"volume_cm3", ok ? Json(r.volume_cm3) : Json()},
+            {"interval_cm3", ok ? Json(r.interval_cm3) : Json()},
+            {"depth_mm", ok ? Json(r.depth_mm) : Json()}};
   warnings_json(o, r);
-  o.num("unseen_share", r.unseen_share)
-      .integer("points_in", r.points_in).integer("points_used", r.points_used);
+  o["unseen_share"] = r.unseen_share;
+  o["points_in"] = r.points_in;
+  o["points_used"] = r.points_used;
   // As pitvol measure --json: the check that refused a PV_ERR_NOT_A_PIT with
   // its figures, the band of a PV_ERR_WALL_GAP.
   if (refused_by_check(r)) {
-    o.str("failed_check", pv_pit_check_name(r.failed_check))
-        .num("check_value", r.check_value)
-        .num("check_limit", r.check_limit);
+    o["failed_check"] = pv_pit_check_name(r.failed_check);
+    o["check_value"] = r.check_value;
+    o["check_limit"] = r.check_limit;
   }
-  if (wall_gap(r)) o.num("gap_from_mm", r.gap_from_mm).num("gap_to_mm", r.gap_to_mm);
-  if (r.status != 0) {
+  if (wall_gap(r)) {
+    o["gap_from_mm"] = r.gap_from_mm;
+    o["gap_to_mm"] = r.gap_to_mm;
+  }
+  if (!ok) {
     const pv_result_t pr = core_result(r);
     pv_advice_t a;
     pv_advice_refusal(&pr, pr.status, &a);
-    o.str("advice", a.sentence);
+    o["advice"] = a.sentence;
   }
   density_json(o, r);
   const pitvol_Record &rec = r.record;
-  o.str("test_id", rec.test_id).str("location", rec.location).str("operator", rec.operator_name);
-  if (rec.required_compaction_percent > 0) o.num("required_compaction_percent", rec.required_compaction_percent);
-  else o.null("required_compaction_percent");
-  if (rec.verdict != pitvol_Verdict_VERDICT_NONE) o.str("verdict", verdict_name(rec.verdict));
-  else o.null("verdict");
-  if (rec.verdict == pitvol_Verdict_VERDICT_UNDECIDED) o.num("decides_within_cm3", rec.decides_within_cm3);
-  return o.text();
+  o["test_id"] = std::string(rec.test_id);
+  o["location"] = std::string(rec.location);
+  o["operator"] = std::string(rec.operator_name);
+  o["required_compaction_percent"] =
+      rec.required_compaction_percent > 0 ? Json(rec.required_compaction_percent) : Json();
+  o["verdict"] = rec.verdict != pitvol_Verdict_VERDICT_NONE ? Json(verdict_name(rec.verdict)) : Json();
+  if (rec.verdict == pitvol_Verdict_VERDICT_UNDECIDED) o["decides_within_cm3"] = rec.decides_within_cm3;
+  return json_line(o);
 }
 
 std::string error_text(const pitvol_Error &e) {
@@ -334,9 +350,8 @@ std::string error_text(const pitvol_Error &e) {
 }
 
 std::string error_json(const pitvol_Error &e) {
-  JsonObject o;
-  o.str("type", "error").num("code", double(e.code)).str("name", e.name).str("message", e.message);
-  return o.text();
+  const Json o = {{"type", "error"}, {"code", e.code}, {"name", std::string(e.name)}, {"message", std::string(e.message)}};
+  return json_line(o);
 }
 
 std::string result_csv_header() {

@@ -11,6 +11,7 @@
 
 #include "export_levelled.h"
 #include "out_file.h"
+#include "pitvol/json.h"
 #include "scanio/scan_reader.h"
 
 namespace pv::tools {
@@ -178,33 +179,27 @@ bool write_wall(const MeasureOptions &opt, const WallGrid &w, std::string *err) 
 bool write_model(const MeasureOptions &opt, const pv_transform_t &tf, pv_status_t tst,
                  const WallGrid &w, uint64_t count, uint64_t stride, uint64_t written,
                  std::string *err) {
+  Json m = {{"method", pv_method_name(opt.cfg.method)},
+            {"levelling", pv_status_name(tst)},
+            {"rim_mm", tf.rim_mm},
+            {"rim_from_ground", tf.rim_from_ground},
+            {"rotation", tf.rotation},
+            {"translation_mm", tf.translation_mm},
+            {"points_exportable", count},
+            {"points_stride", stride},
+            {"points_written", written}};
+  m["wall_grid"] = nullptr;
+  if (w.have) {
+    m["wall_grid"] = {{"axis_x_mm", w.g.axis_x_mm}, {"axis_y_mm", w.g.axis_y_mm},
+                      {"axis_dx", w.g.axis_dx},     {"axis_dy", w.g.axis_dy},
+                      {"z0_mm", w.g.z0_mm},         {"dz_mm", w.g.dz_mm},
+                      {"rim_mm", w.g.rim_mm},       {"theta_bins", w.g.theta_bins},
+                      {"z_bins", w.g.z_bins}};
+  }
+  m["outline_shares"] = kOutlineShares;
   OutFile f;
   if (!open_out(opt, "model.json", &f, err)) return false;
-  FILE *o = f.get();
-  std::fprintf(o, "{\n  \"method\": \"%s\",\n", pv_method_name(opt.cfg.method));
-  std::fprintf(o, "  \"levelling\": \"%s\",\n", pv_status_name(tst));
-  std::fprintf(o, "  \"rim_mm\": %.17g,\n  \"rim_from_ground\": %u,\n", tf.rim_mm, tf.rim_from_ground);
-  std::fprintf(o, "  \"rotation\": [");
-  for (int i = 0; i < 9; ++i) std::fprintf(o, "%s%.17g", i ? ", " : "", tf.rotation[i]);
-  std::fprintf(o, "],\n  \"translation_mm\": [%.17g, %.17g, %.17g],\n", tf.translation_mm[0],
-               tf.translation_mm[1], tf.translation_mm[2]);
-  std::fprintf(o, "  \"points_exportable\": %llu,\n  \"points_stride\": %llu,\n"
-                  "  \"points_written\": %llu,\n",
-               (unsigned long long)count, (unsigned long long)stride, (unsigned long long)written);
-  if (w.have) {
-    std::fprintf(o, "  \"wall_grid\": {\"axis_x_mm\": %.17g, \"axis_y_mm\": %.17g, "
-                    "\"axis_dx\": %.17g, \"axis_dy\": %.17g, \"z0_mm\": %.17g, \"dz_mm\": %.17g, "
-                    "\"rim_mm\": %.17g, \"theta_bins\": %u, \"z_bins\": %u},\n",
-                 w.g.axis_x_mm, w.g.axis_y_mm, w.g.axis_dx, w.g.axis_dy, w.g.z0_mm, w.g.dz_mm,
-                 w.g.rim_mm, w.g.theta_bins, w.g.z_bins);
-  } else {
-    std::fprintf(o, "  \"wall_grid\": null,\n");
-  }
-  std::fprintf(o, "  \"outline_shares\": [");
-  for (size_t i = 0; i < sizeof kOutlineShares / sizeof *kOutlineShares; ++i) {
-    std::fprintf(o, "%s%g", i ? ", " : "", kOutlineShares[i]);
-  }
-  std::fprintf(o, "]\n}\n");
+  std::fprintf(f.get(), "%s\n", json_lines(m).c_str());
   return f.commit(err);
 }
 

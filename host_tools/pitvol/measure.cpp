@@ -104,9 +104,8 @@ int input_error(const MeasureOptions &opt, const scanio::Error &e) {
   if (e.line > 0) where += ":" + std::to_string(e.line);
   else if (e.byte_offset > 0) where += ": byte " + std::to_string(e.byte_offset);
   if (opt.json) {
-    JsonObject o;
-    o.str("status", "PV_ERR_INPUT").str("message", where + ": " + e.message).null("volume_cm3");
-    std::printf("%s\n", o.text().c_str());
+    const Json o = {{"status", "PV_ERR_INPUT"}, {"message", where + ": " + e.message}, {"volume_cm3", nullptr}};
+    std::printf("%s\n", json_line(o).c_str());
   }
   std::fprintf(stderr, "pitvol: %s: %s\n", where.c_str(), e.message.c_str());
   return kExitInput;
@@ -208,24 +207,21 @@ int run_measure(const MeasureOptions &opt) {
   if (!uw.empty()) extra.push_back(uw);
 
   const bool ok = st == PV_OK;
-  JsonObject timings;
-  timings.num("read_and_push", read_ms).num("finish", finish_ms).num("total", total_ms);
-  JsonObject o;
-  o.str("pitvol_version", PV_VERSION_STRING)
-      .str("method", pv_method_name(opt.cfg.method))
-      .str("file", opt.path)
-      .str("units", opt.units)
-      .str("status", pv_status_name(st))
-      .str("message", pv_status_message(st));
+  Json o = {{"pitvol_version", PV_VERSION_STRING},
+            {"method", pv_method_name(opt.cfg.method)},
+            {"file", opt.path},
+            {"units", opt.units},
+            {"status", pv_status_name(st)},
+            {"message", pv_status_message(st)}};
   add_result_fields(&o, r, ok, extra);
-  o.raw("timings_ms", timings.text());
+  o["timings_ms"] = {{"read_and_push", read_ms}, {"finish", finish_ms}, {"total", total_ms}};
   // --export after the result: a refused scan is exported too (the report
   // shows why), and the files carry the same JSON as --json.
-  if (!opt.export_dir.empty() && !export_report(opt, session, r, exportable_points, o.text(), &oerr)) {
+  if (!opt.export_dir.empty() && !export_report(opt, session, r, exportable_points, json_line(o), &oerr)) {
     output_errors.push_back("--export: " + oerr);
   }
   if (opt.json) {
-    std::printf("%s\n", o.text().c_str());
+    std::printf("%s\n", json_line(o).c_str());
   } else if (ok) {
     print_result_summary(stdout, r, opt.cfg.method, extra);
   } else {

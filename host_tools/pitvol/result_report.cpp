@@ -18,50 +18,48 @@ WarningLists warning_lists(const pv_result_t &r, const std::vector<std::string> 
   return w;
 }
 
-void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured,
+void add_result_fields(Json *o, const pv_result_t &r, bool measured,
                        const std::vector<std::string> &extra_warnings) {
-  if (measured) {
-    o->num("volume_cm3", r.volume_cm3)
-        .num("interval_cm3", r.interval_cm3)
-        .num("depth_mm", r.depth_mm);
-  } else {
-    o->null("volume_cm3").null("interval_cm3").null("depth_mm");
-  }
-  o->num("tilt_deg", r.tilt_deg)
-      .integer("layers_used", r.layers_used)
-      .integer("layers_rejected", r.layers_rejected)
-      .integer("points_in", r.points_in)
-      .integer("points_invalid", r.points_invalid)
-      .integer("points_out_of_range", r.points_out_of_range)
-      .integer("points_stored", r.points_stored)
-      .integer("points_used", r.points_used)
-      .num("gap_from_mm", r.gap_from_mm)
-      .num("gap_to_mm", r.gap_to_mm)
-      .num("unseen_share", r.unseen_share)
-      .raw("coverage", coverage_json(r));
+  Json &j = *o;
+  const Json none;  // null
+  j["volume_cm3"] = measured ? Json(r.volume_cm3) : none;
+  j["interval_cm3"] = measured ? Json(r.interval_cm3) : none;
+  j["depth_mm"] = measured ? Json(r.depth_mm) : none;
+  j["tilt_deg"] = r.tilt_deg;
+  j["layers_used"] = r.layers_used;
+  j["layers_rejected"] = r.layers_rejected;
+  j["points_in"] = r.points_in;
+  j["points_invalid"] = r.points_invalid;
+  j["points_out_of_range"] = r.points_out_of_range;
+  j["points_stored"] = r.points_stored;
+  j["points_used"] = r.points_used;
+  j["gap_from_mm"] = r.gap_from_mm;
+  j["gap_to_mm"] = r.gap_to_mm;
+  j["unseen_share"] = r.unseen_share;
+  j["coverage"] = coverage_json(r);
   // Which plausibility check refused a PV_ERR_NOT_A_PIT, with its figures.
   if (r.failed_check != PV_PIT_CHECK_NONE) {
-    o->str("failed_check", pv_pit_check_name(r.failed_check))
-        .num("check_value", r.check_value)
-        .num("check_limit", r.check_limit);
+    j["failed_check"] = pv_pit_check_name(r.failed_check);
+    j["check_value"] = r.check_value;
+    j["check_limit"] = r.check_limit;
   }
   if (r.status != PV_OK) {
     pv_advice_t a;
     pv_advice_refusal(&r, r.status, &a);
-    o->str("advice", a.sentence);
+    j["advice"] = a.sentence;
   }
   const WarningLists w = warning_lists(r, extra_warnings);
-  o->strings("warnings", w.warnings).strings("notes", w.notes).integer("warning_bits", r.warnings);
+  j["warnings"] = w.warnings;
+  j["notes"] = w.notes;
+  j["warning_bits"] = r.warnings;
 }
 
-std::string coverage_json(const pv_result_t &r) {
-  std::string a = "[";
+Json coverage_json(const pv_result_t &r) {
+  Json a = Json::array();
   for (uint32_t b = 0; b < r.coverage_bands && b < PV_COVERAGE_BANDS; ++b) {
-    char v[32];
-    std::snprintf(v, sizeof v, "%s%.3f", b ? "," : "", double(r.coverage[b]));
-    a += v;
+    a.push_back(json_decimals(double(r.coverage[b]), 3));
   }
-  return a + "]";
+  return a;
 }
 
 void print_result_summary(std::FILE *f, const pv_result_t &r, pv_method_t method,

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "pitvol/json_writer.h"
+#include "pitvol/json.h"
 #include "pitvol/pitvol.h"
 
 namespace pv::tools {
@@ -25,10 +25,10 @@ WarningLists warning_lists(const pv_result_t &r, const std::vector<std::string> 
 // transport failure can void a result the core accepted), tilt, layers,
 // points, the gap band, the warnings (with extra ones first), notes and
 // warning_bits, and for a refusal the advice.
-void add_result_fields(JsonObject *o, const pv_result_t &r, bool measured,
+void add_result_fields(Json *o, const pv_result_t &r, bool measured,
                        const std::vector<std::string> &extra_warnings = {});
-// The wall coverage per height band, bottom first, as a JSON array.
-std::string coverage_json(const pv_result_t &r);
+// The wall coverage per height band, bottom first, to 3 decimals.
+Json coverage_json(const pv_result_t &r);
 // A PV_ERR_NOT_A_PIT's failed check in words with its figure and limit
 // ("31.0 % of the points inside the void (a pit: at most 15.0 %)").
 std::string check_figures(const pv_result_t &r);

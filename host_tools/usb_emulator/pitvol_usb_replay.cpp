@@ -222,52 +222,50 @@ int main(int argc, char **argv) {
   const double mb_per_s = stream_s > 0 ? double(us.stream.bytes_in) / stream_s / 1e6 : 0;
 
   if (json) {
-    using pv::tools::JsonObject;
-    JsonObject usb;
-    usb.str("state", state_name(state))
-        .integer("bytes_in", us.stream.bytes_in)
-        .integer("bytes_skipped", us.stream.bytes_skipped)
-        .integer("headers_bad", us.stream.headers_bad)
-        .integer("frames_ok", us.stream.frames_ok)
-        .integer("frames_bad_crc", us.stream.frames_bad_crc)
-        .integer("frames_duplicate", us.stream.frames_duplicate)
-        .integer("sequence_gaps", us.stream.sequence_gaps)
-        .integer("frames_lost", us.stream.frames_lost)
-        .integer("points_ok", us.stream.points_ok)
-        .integer("points_nonfinite", us.stream.points_nonfinite)
-        .integer("points_out_of_range", us.stream.points_out_of_range)
-        .integer("scans_ended", us.stream.scans_ended)
-        .integer("transfers_completed", us.transfers_completed)
-        .integer("transfers_short", us.transfers_short)
-        .integer("stalls_cleared", us.stalls_cleared)
-        .integer("timeouts", us.timeouts)
-        .integer("transfer_errors", us.transfer_errors)
-        .integer("unplugs", us.unplugs)
-        .integer("replugs", us.replugs);
-    JsonObject emj;
-    emj.integer("frames_in", es.frames_in)
-        .integer("frames_out", es.frames_out)
-        .integer("frames_corrupted", es.frames_corrupted)
-        .integer("frames_dropped", es.frames_dropped)
-        .integer("frames_duplicated", es.frames_duplicated)
-        .integer("bytes_served", es.bytes_served)
-        .integer("clear_halts", es.clear_halts)
-        .integer("unplugs", es.unplugs)
-        .integer("replugs", es.replugs);
-    JsonObject timings;
-    timings.num("stream", stream_s * 1000.0).num("finish", finish_ms);
-    JsonObject o;
-    o.str("pitvol_version", PV_VERSION_STRING)
-        .str("method", pv_method_name(cfg.method))
-        .str("file", path)
-        .str("status", timed_out ? "PV_ERR_USB_TIMEOUT" : pv_status_name(st))
-        .str("message", timed_out ? "the scan did not end in time" : pv_status_message(st));
-    add_result_fields(&o, r, ok);
-    o.raw("usb", usb.text())
-        .raw("emulator", emj.text())
-        .raw("timings_ms", timings.text());
-    if (bench) o.num("points_per_s", pts_per_s).num("mb_per_s", mb_per_s);
-    std::printf("%s\n", o.text().c_str());
+    using pv::tools::Json;
+    const Json usb = {{"state", state_name(state)},
+                      {"bytes_in", us.stream.bytes_in},
+                      {"bytes_skipped", us.stream.bytes_skipped},
+                      {"headers_bad", us.stream.headers_bad},
+                      {"frames_ok", us.stream.frames_ok},
+                      {"frames_bad_crc", us.stream.frames_bad_crc},
+                      {"frames_duplicate", us.stream.frames_duplicate},
+                      {"sequence_gaps", us.stream.sequence_gaps},
+                      {"frames_lost", us.stream.frames_lost},
+                      {"points_ok", us.stream.points_ok},
+                      {"points_nonfinite", us.stream.points_nonfinite},
+                      {"points_out_of_range", us.stream.points_out_of_range},
+                      {"scans_ended", us.stream.scans_ended},
+                      {"transfers_completed", us.transfers_completed},
+                      {"transfers_short", us.transfers_short},
+                      {"stalls_cleared", us.stalls_cleared},
+                      {"timeouts", us.timeouts},
+                      {"transfer_errors", us.transfer_errors},
+                      {"unplugs", us.unplugs},
+                      {"replugs", us.replugs}};
+    const Json emulator = {{"frames_in", es.frames_in},
+                           {"frames_out", es.frames_out},
+                           {"frames_corrupted", es.frames_corrupted},
+                           {"frames_dropped", es.frames_dropped},
+                           {"frames_duplicated", es.frames_duplicated},
+                           {"bytes_served", es.bytes_served},
+                           {"clear_halts", es.clear_halts},
+                           {"unplugs", es.unplugs},
+                           {"replugs", es.replugs}};
+    Json o = {{"pitvol_version", PV_VERSION_STRING},
+              {"method", pv_method_name(cfg.method)},
+              {"file", path},
+              {"status", timed_out ? "PV_ERR_USB_TIMEOUT" : pv_status_name(st)},
+              {"message", timed_out ? "the scan did not end in time" : pv_status_message(st)}};
+    pv::tools::add_result_fields(&o, r, ok);
+    o["usb"] = usb;
+    o["emulator"] = emulator;
+    o["timings_ms"] = {{"stream", stream_s * 1000.0}, {"finish", finish_ms}};
+    if (bench) {
+      o["points_per_s"] = pts_per_s;
+      o["mb_per_s"] = mb_per_s;
+    }
+    std::printf("%s\n", pv::tools::json_line(o).c_str());
   } else {
     if (ok) pv::tools::print_result_summary(stdout, r, cfg.method);
     std::printf("usb state      %s\n", state_name(state));
