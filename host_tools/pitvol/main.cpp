@@ -5,35 +5,23 @@
 //                       [--no-progress]
 //   pitvol --version | --help
 //   pitvol measure --help
+//
+// The command line is parsed by CLI11 (Debian's libcli11-dev); the help
+// text is its listing of the options below.
 #include <cstdio>
-#include <cstring>
 #include <string>
+
+#include <CLI/CLI.hpp>
 
 #include "config_file.h"
 #include "measure.h"
 
 namespace {
 
-const char kUsage[] =
-    "usage: pitvol measure FILE [options]\n"
-    "  Measures the pit volume in a scan file (PLY, PCD, XYZ/ASC/CSV).\n"
-    "options:\n"
-    "  --json              one JSON object on stdout\n"
-    "  --units mm|cm|m     units of the file's coordinates (default mm)\n"
-    "  --config FILE       'key = value' settings (docs/method.md)\n"
-    "  --method NAME       surface (default), paper or polar (docs/method.md)\n"
-    "  --format NAME       ply, pcd, xyz, asc, csv (default: by extension)\n"
-    "  --no-progress       no progress line on stderr\n"
-    "  --layers FILE       write area against height per layer (CSV)\n"
-    "  --export-levelled FILE  write the points levelled (bottom at z = 0,\n"
-    "                      binary PLY) with the rim height as a comment\n"
-    "  --export DIR        write what a report plots into DIR: levelled points,\n"
-    "                      layers, coverage, wall grid, outlines, the result\n"
-    "                      (docs/report.md; pitvol-report makes the page)\n"
-    "  --help              this text\n"
-    "  a FILE starting with '-': write ./-name, or put it after --\n"
+const char kExitCodes[] =
+    "A FILE starting with '-': write ./-name, or put it after --.\n"
     "exit codes: 0 measured, 2 usage, 3 unreadable or invalid input,\n"
-    "            4 the scan cannot support a measurement, 5 internal error\n";
+    "            4 the scan cannot support a measurement, 5 internal error";
 
 // One line: what was wrong and where the options are listed.
 int usage_error(const std::string &msg) {
@@ -45,64 +33,64 @@ int usage_error(const std::string &msg) {
 
 int main(int argc, char **argv) {
   using namespace pv::tools;
-  if (argc >= 2 && (std::strcmp(argv[1], "--version") == 0)) {
-    std::printf("pitvol %s\n", PV_VERSION_STRING);
-    return 0;
-  }
-  if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
-    std::printf("%s", kUsage);
-    return 0;
-  }
-  if (argc < 2 || std::strcmp(argv[1], "measure") != 0) return usage_error("expected a command: measure");
-  for (int i = 2; i < argc && std::strcmp(argv[i], "--") != 0; ++i) {
-    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-      std::printf("%s", kUsage);
-      return 0;
-    }
-  }
-
   MeasureOptions opt;
   pv_config_default(&opt.cfg);
-  std::string config_path, method;
-  bool only_files = false;  // after "--", every argument is a file name
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (only_files || a.empty() || a[0] != '-') {
-      if (!opt.path.empty()) return usage_error("more than one input file given");
-      opt.path = a;
-    } else if (a == "--") {
-      only_files = true;
-    } else if (a == "--json") {
-      opt.json = true;
-    } else if (a == "--no-progress") {
-      opt.progress = false;
-    } else if (a == "--units" && has_value) {
-      opt.units = argv[++i];
-      if (opt.units == "mm") opt.scale_to_mm = 1.0;
-      else if (opt.units == "cm") opt.scale_to_mm = 10.0;
-      else if (opt.units == "m") opt.scale_to_mm = 1000.0;
-      else return usage_error("--units must be mm, cm or m, not '" + opt.units + "'");
-    } else if (a == "--layers" && has_value) {
-      opt.layers_csv = argv[++i];
-    } else if (a == "--export-levelled" && has_value) {
-      opt.export_levelled = argv[++i];
-    } else if (a == "--export" && has_value) {
-      opt.export_dir = argv[++i];
-    } else if (a == "--config" && has_value) {
-      config_path = argv[++i];
-    } else if (a == "--method" && has_value) {
-      method = argv[++i];
-    } else if (a == "--format" && has_value) {
-      const std::string f = argv[++i];
-      opt.format = pv::scanio::format_from_name(f);
-      if (opt.format == pv::scanio::Format::Auto) return usage_error("unknown --format '" + f + "'");
-    } else {
-      // A file whose name starts with '-': ./-x or after "--".
-      return usage_error("unknown or incomplete option '" + a + "'");
-    }
+  std::string config_path, method, format;
+
+  CLI::App app{"Measures the volume of a scanned test pit.", "pitvol"};
+  app.get_formatter()->label("Usage", "usage");
+  app.set_version_flag("--version", std::string("pitvol ") + PV_VERSION_STRING);
+  app.require_subcommand(1);
+  app.footer(kExitCodes);
+  CLI::App *m = app.add_subcommand("measure", "Measures the pit volume in a scan file (PLY, PCD, XYZ/ASC/CSV).");
+  m->footer(kExitCodes);
+  m->add_option("FILE", opt.path, "the scan file")->required();
+  m->add_flag("--json", opt.json, "one JSON object on stdout");
+  m->add_option("--units", opt.units, "units of the file's coordinates (default mm)")
+      ->check(CLI::IsMember({"mm", "cm", "m"}));
+  m->add_option("--config", config_path, "'key = value' settings (docs/method.md)")->type_name("FILE");
+  m->add_option("--method", method, "surface (default), paper or polar (docs/method.md)")
+      ->type_name("NAME")
+      ->check(
+          [](const std::string &name) {
+            pv_method_t unused;
+            return pv_method_from_name(name.c_str(), &unused) == PV_OK
+                       ? std::string()
+                       : "unknown method '" + name + "' (known: surface, paper, polar)";
+          },
+          "");
+  m->add_option("--format", format, "ply, pcd, xyz, asc, csv (default: by extension)")
+      ->type_name("NAME")
+      ->check(
+          [](const std::string &name) {
+            return pv::scanio::format_from_name(name) != pv::scanio::Format::Auto
+                       ? std::string()
+                       : "unknown format '" + name + "' (known: ply, pcd, xyz, asc, csv)";
+          },
+          "");
+  m->add_flag("--no-progress", "no progress line on stderr");
+  m->add_option("--layers", opt.layers_csv, "write area against height per layer (CSV)")->type_name("FILE");
+  m->add_option("--export-levelled", opt.export_levelled,
+                "write the points levelled (bottom at z = 0, binary PLY) with the rim height as a comment")
+      ->type_name("FILE");
+  m->add_option("--export", opt.export_dir,
+                "write what a report plots into DIR: levelled points, layers, coverage, wall grid, "
+                "outlines, the result (docs/report.md; pitvol-report makes the page)")
+      ->type_name("DIR");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp &e) {
+    return app.exit(e);  // the help of the command asked about, on stdout, exit 0
+  } catch (const CLI::CallForVersion &e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError &e) {
+    if (app.get_subcommands().empty()) return usage_error("expected a command: measure");
+    return usage_error(e.what());
   }
-  if (opt.path.empty()) return usage_error("no scan file given");
+  opt.progress = m->count("--no-progress") == 0;
+  if (opt.units == "cm") opt.scale_to_mm = 10.0;
+  else if (opt.units == "m") opt.scale_to_mm = 1000.0;
+  if (!format.empty()) opt.format = pv::scanio::format_from_name(format);
   if (!config_path.empty()) {
     std::string err;
     if (!load_config_file(config_path, &opt.cfg, &err)) {
@@ -110,8 +98,7 @@ int main(int argc, char **argv) {
       return kExitUsage;
     }
   }
-  if (!method.empty() && pv_method_from_name(method.c_str(), &opt.cfg.method) != PV_OK) {
-    return usage_error("unknown --method '" + method + "' (known: surface, paper, polar)");
-  }
+  // --method over the config file's method.
+  if (!method.empty()) pv_method_from_name(method.c_str(), &opt.cfg.method);
   return run_measure(opt);
 }
