@@ -124,6 +124,21 @@ def main():
         one_line(p, f"config {text!r}")
         check(want in p.stderr, f"config {text!r}: {p.stderr}")
     print("errors: one line, exit 2 or 3, no temporary files left")
+
+    # 9. The JSON (nlohmann/json) prints as the hand-written writer did:
+    # one line, "key": value, ", " between fields, no fraction on a whole
+    # number, coverage to 3 decimals; the help (CLI11) lists every option.
+    out = run("pitvol", "measure", pit, "--json").stdout
+    check(out.count("\n") == 1 and out.startswith('{"pitvol_version": "'), f"JSON line: {out}")
+    j = json.loads(out)
+    check('"gap_from_mm": 0, "gap_to_mm": 0, ' in out, f"whole numbers: {out}")
+    check(all(round(c, 3) == c for c in j["coverage"]) and '"coverage": [1, ' in out,
+          f"coverage: {j['coverage']}")
+    p = run("pitvol", "measure", "--help")
+    for o in ("--json", "--units", "--config", "--method", "--format", "--no-progress", "--layers",
+              "--export-levelled", "--export", "exit codes"):
+        check(o in p.stdout, f"--help lacks {o}:\n{p.stdout}")
+    print("JSON as before, --help lists every option")
     return 0
 
 
