@@ -217,53 +217,15 @@ std::string peer_text(const PeerCell &p) {
   return b;
 }
 
-const char kUsage[] =
-    "usage: pitvol-accuracy SWEEP_DIR --envelope [--markdown] [--method NAME] [--jobs N]\n"
-    "                       [--config FILE]\n"
-    "                       [--title TEXT] [--peers grid25,cloudcompare,poisson]\n"
-    "                       [--peers-cache DIR] [--peers-cached-only] [--worst N]\n";
-
 }  // namespace
 
-int envelope_main(int argc, char **argv) {
-  if (argc < 2) {
-    std::fputs(kUsage, stderr);
-    return 2;
-  }
-  const std::string dir = argv[1];
-  std::string method = "surface", title, config;
-  bool markdown = false;
-  int jobs = 1;
-  size_t worst_n = 30;
-  std::vector<std::string> peers;
-  PeerOptions popt;
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool more = i + 1 < argc;
-    if (a == "--envelope") continue;
-    if (a == "--markdown") markdown = true;
-    else if (a == "--method" && more) method = argv[++i];
-    else if (a == "--jobs" && more) jobs = std::max(1, std::atoi(argv[++i]));
-    else if (a == "--title" && more) title = argv[++i];
-    else if (a == "--config" && more) config = argv[++i];
-    else if (a == "--worst" && more) worst_n = size_t(std::max(0, std::atoi(argv[++i])));
-    else if (a == "--peers" && more) {
-      std::stringstream ss(argv[++i]);
-      std::string p;
-      while (std::getline(ss, p, ',')) {
-        if (!PeerRunner::known(p)) {
-          std::fprintf(stderr, "pitvol-accuracy: unknown peer '%s'\n", p.c_str());
-          return 2;
-        }
-        peers.push_back(p);
-      }
-    } else if (a == "--peers-cache" && more) popt.cache_dir = argv[++i];
-    else if (a == "--peers-cached-only") popt.cached_only = true;
-    else {
-      std::fputs(kUsage, stderr);
-      return 2;
-    }
-  }
+int envelope_main(const EnvelopeOptions &opt) {
+  const std::string &dir = opt.dir, &method = opt.method, &title = opt.title, &config = opt.config;
+  const bool markdown = opt.markdown;
+  const int jobs = opt.jobs;
+  const size_t worst_n = opt.worst_n;
+  const std::vector<std::string> &peers = opt.peers;
+  PeerOptions popt = opt.popt;
   std::vector<Scan> scans;
   std::string err;
   if (!read_sweep(dir, &scans, &err)) {

@@ -43,6 +43,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "envelope_table.h"
 #include "peer_runner.h"
 
@@ -228,68 +230,89 @@ int write_html(const std::string &out, const std::vector<Case> &cases,
   return 0;
 }
 
-const char kUsage[] =
-    "usage: pitvol-accuracy CORPUS_DIR [--markdown] [--method NAME ...]\n"
-    "                       [--write-expected FILE] [--check FILE] [--every N]\n"
-    "                       [--peers grid25,cloudcompare,poisson] [--peers-cache DIR]\n"
-    "                       [--peers-cached-only] [--case NAME ...]\n"
-    "                       [--peers-max-error PCT] [--grid-mm 1] [--cc-grid-mm 2]\n"
-    "                       [--html OUT.html]\n"
-    "       pitvol-accuracy SWEEP_DIR --envelope [--markdown] [--method NAME] [--jobs N] [--config FILE]\n"
-    "                       [--title TEXT] [--peers LIST] [--peers-cache DIR]\n"
-    "                       [--peers-cached-only] [--worst N]\n"
-    "       pitvol-accuracy --help\n";
-
-int usage() {
-  std::fputs(kUsage, stderr);
-  return 2;
-}
-
 }  // namespace
 
 int main(int argc, char **argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-  }
-  if (argc < 2) return usage();
-  for (int i = 2; i < argc; ++i)
-    if (std::strcmp(argv[i], "--envelope") == 0) return pv::tools::envelope_main(argc, argv);
-  const std::string dir = argv[1];
+  std::string dir;
   std::vector<std::string> methods;
   std::string write_expected, check, html_out;
-  bool markdown = false;
+  bool markdown = false, envelope = false;
   long every = 1;  // --every N: every N-th case only (the sanitizer build)
   std::vector<std::string> peers, only_cases;
   double peers_max_error = -1;
   pv::tools::PeerOptions popt;
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--markdown") markdown = true;
-    else if (a == "--peers" && i + 1 < argc) {
-      peers = split(argv[++i], ',');
-      for (const std::string &p : peers) {
-        if (!pv::tools::PeerRunner::known(p)) {
-          std::fprintf(stderr, "pitvol-accuracy: unknown peer '%s' (known: grid25, cloudcompare, poisson)\n",
-                       p.c_str());
-          return 2;
-        }
-      }
+  pv::tools::EnvelopeOptions eo;
+
+  // The command line (CLI11, as pitvol's); errors one line, exit 2.
+  CLI::App app{"Replays a corpus of simulated scans (pitvol-sim corpus) through pitvol measure and reports "
+               "its accuracy per family and overall; with --envelope, the envelope table of a sweep "
+               "(pitvol-sim sweep). docs/accuracy.md.",
+               "pitvol-accuracy"};
+  app.get_formatter()->label("Usage", "usage");
+  app.add_option("DIR", dir, "the corpus, or with --envelope the sweep")->required();
+  app.add_flag("--envelope", envelope, "the envelope table of a sweep");
+  app.add_flag("--markdown", markdown, "Markdown tables");
+  app.add_option("--method", methods, "surface (default), paper or polar; a corpus takes several")
+      ->allow_extra_args(false)
+      ->type_name("NAME");
+  const auto peer_names = [](const std::string &p) {
+    return pv::tools::PeerRunner::known(p) ? std::string()
+                                           : "unknown peer '" + p + "' (known: grid25, cloudcompare, poisson)";
+  };
+  app.add_option("--peers", peers, "other programs' volumes of the same scans (docs/accuracy.md \"Peers\")")
+      ->delimiter(',')
+      ->allow_extra_args(false)
+      ->type_name("grid25,cloudcompare,poisson")
+      ->check(peer_names, "");
+  app.add_option("--peers-cache", popt.cache_dir, "the peers' results (default DIR/peers)")->type_name("DIR");
+  app.add_flag("--peers-cached-only", popt.cached_only, "compute no peer result the cache lacks");
+  // A corpus only (refused with --envelope).
+  const std::string corpus_group = "A corpus only", sweep_group = "A sweep only (--envelope)";
+  const std::vector<CLI::Option *> corpus_only = {
+      app.add_option("--write-expected", write_expected, "record each case's result and tolerance")
+          ->type_name("FILE"),
+      app.add_option("--check", check, "fail every case outside its recorded tolerance")->type_name("FILE"),
+      app.add_option("--every", every, "every N-th case only")->check(CLI::Range(1L, 1000000L)),
+      app.add_option("--case", only_cases, "this case only (repeatable)")
+          ->allow_extra_args(false)
+          ->type_name("NAME"),
+      app.add_option("--peers-max-error", peers_max_error,
+                     "fail unless every peer measured a case and each within PCT")
+          ->type_name("PCT"),
+      app.add_option("--grid-mm", popt.grid_mm, "grid25's cell (default 1)")->check(CLI::PositiveNumber),
+      app.add_option("--cc-grid-mm", popt.cc_grid_mm, "CloudCompare's grid step (default 2)")
+          ->check(CLI::PositiveNumber),
+      app.add_option("--html", html_out, "the results as a page (docs/report.md)")->type_name("OUT.html"),
+  };
+  for (CLI::Option *o : corpus_only) o->group(corpus_group);
+  const std::vector<CLI::Option *> sweep_only = {
+      app.add_option("--jobs", eo.jobs, "measure N scans at a time")->check(CLI::Range(1, 256)),
+      app.add_option("--config", eo.config, "pitvol measure --config FILE")->type_name("FILE"),
+      app.add_option("--title", eo.title, "a heading over the table"),
+      app.add_option("--worst", eo.worst_n, "list the N worst scans (default 30)"),
+  };
+  for (CLI::Option *o : sweep_only) o->group(sweep_group);
+  try {
+    app.parse(argc, argv);
+    for (CLI::Option *o : envelope ? corpus_only : sweep_only) {
+      if (o->count() > 0)
+        throw CLI::ValidationError(o->get_name(), envelope ? "not with --envelope (a corpus only)"
+                                                           : "a sweep only: give --envelope");
     }
-    else if (a == "--peers-cache" && i + 1 < argc) popt.cache_dir = argv[++i];
-    else if (a == "--peers-cached-only") popt.cached_only = true;
-    else if (a == "--grid-mm" && i + 1 < argc) popt.grid_mm = std::atof(argv[++i]);
-    else if (a == "--cc-grid-mm" && i + 1 < argc) popt.cc_grid_mm = std::atof(argv[++i]);
-    else if (a == "--peers-max-error" && i + 1 < argc) peers_max_error = std::atof(argv[++i]);
-    else if (a == "--case" && i + 1 < argc) only_cases.push_back(argv[++i]);
-    else if (a == "--method" && i + 1 < argc) methods.push_back(argv[++i]);
-    else if (a == "--write-expected" && i + 1 < argc) write_expected = argv[++i];
-    else if (a == "--check" && i + 1 < argc) check = argv[++i];
-    else if (a == "--html" && i + 1 < argc) html_out = argv[++i];
-    else if (a == "--every" && i + 1 < argc && (every = std::atol(argv[++i])) >= 1) continue;
-    else return usage();
+    if (envelope && methods.size() > 1) throw CLI::ValidationError("--method", "--envelope takes one method");
+  } catch (const CLI::CallForHelp &e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError &e) {
+    std::fprintf(stderr, "pitvol-accuracy: %s (pitvol-accuracy --help lists the options)\n", e.what());
+    return 2;
+  }
+  if (envelope) {
+    eo.dir = dir;
+    if (!methods.empty()) eo.method = methods[0];
+    eo.markdown = markdown;
+    eo.peers = peers;
+    eo.popt = popt;
+    return pv::tools::envelope_main(eo);
   }
   if (methods.empty()) methods.push_back("surface");  // the default method
   std::vector<Case> cases;

@@ -43,7 +43,10 @@
 #include <cstring>
 #include <fstream>
 #include <string>
+#include <limits>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "pitvol/pitvol.h"
 #include "synth/synthetic_pit.h"
@@ -245,66 +248,49 @@ std::string fmt(const char *f, double v) {
   return buf;
 }
 
-const char kUsage[] =
-    "usage: pitvol-bench [--markdown] [--ingest-points N] [--scan-points N]\n"
-    "                    [--scale N,N,...] [--no-peers]\n"
-    "       pitvol-bench --help\n";
-
-int usage() {
-  std::fputs(kUsage, stderr);
-  return 2;
-}
-
 std::string fmt_ms(double wall, double cpu) {
   return fmt("%.1f", wall) + " ms (CPU " + fmt("%.1f", cpu) + " ms)";
-}
-
-std::vector<uint64_t> parse_sizes(const std::string &list) {
-  std::vector<uint64_t> v;
-  size_t b = 0;
-  while (b < list.size()) {
-    size_t e = list.find(',', b);
-    if (e == std::string::npos) e = list.size();
-    const double x = std::atof(list.substr(b, e - b).c_str());  // accepts 1e6
-    if (x >= 1000) v.push_back(uint64_t(x));
-    b = e + 1;
-  }
-  return v;
 }
 
 }  // namespace
 
 int main(int argc, char **argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-  }
   if (argc == 3 && std::strcmp(argv[1], "--scale-one") == 0) {
     return scale_child(uint64_t(std::atof(argv[2])));
   }
-  bool markdown = false, peers = true;
+  bool markdown = false, no_peers = false;
   size_t ingest_points = 4000000, scan_points = 400000;
-  std::vector<uint64_t> sizes = {100000, 1000000, 10000000};
+  std::vector<double> scale_sizes = {1e5, 1e6, 1e7};
   std::string cmdline;
   for (int i = 0; i < argc; ++i) cmdline += (i ? " " : "") + std::string(argv[i]);
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--markdown") {
-      markdown = true;
-    } else if (a == "--no-peers") {
-      peers = false;
-    } else if (a == "--scale" && i + 1 < argc) {
-      sizes = parse_sizes(argv[++i]);
-    } else if ((a == "--ingest-points" || a == "--scan-points") && i + 1 < argc) {
-      const long long v = std::atoll(argv[++i]);
-      if (v < 1000) return usage();
-      (a == "--ingest-points" ? ingest_points : scan_points) = size_t(v);
-    } else {
-      return usage();
-    }
+  // The command line (CLI11, as pitvol's); errors one line, exit 2.
+  CLI::App app{"Throughput and latency of the measuring core and the CLI (docs/benchmarks.md).",
+               "pitvol-bench"};
+  app.get_formatter()->label("Usage", "usage");
+  const auto at_least_1000 = CLI::Range(size_t(1000), std::numeric_limits<size_t>::max()).description(">= 1000");
+  app.add_flag("--markdown", markdown, "Markdown tables");
+  app.add_option("--ingest-points", ingest_points, "points pushed for the ingest rate (default 4000000)")
+      ->type_name("N")
+      ->check(at_least_1000);
+  app.add_option("--scan-points", scan_points, "points of the scan finished and replayed (default 400000)")
+      ->type_name("N")
+      ->check(at_least_1000);
+  app.add_option("--scale", scale_sizes, "point counts of the scaling table (default 1e5,1e6,1e7)")
+      ->delimiter(',')
+      ->type_name("N,N,...")
+      ->check(CLI::Range(1000.0, 1e12).description("each 1000 .. 1e12"));
+  app.add_flag("--no-peers", no_peers, "no CloudCompare beside the CLI replay");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp &e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError &e) {
+    std::fprintf(stderr, "pitvol-bench: %s (pitvol-bench --help lists the options)\n", e.what());
+    return 2;
   }
+  const bool peers = !no_peers;
+  std::vector<uint64_t> sizes;
+  for (double n : scale_sizes) sizes.push_back(uint64_t(n));
   std::vector<Row> rows;
 
   // The child processes run first, while this process is still small: a

@@ -28,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "pitvol/result_report.h"
 #include "pitvol/pitvol.h"
 #include "pitvol/usb_scanner.h"
@@ -48,25 +50,13 @@ void on_points(void *user, const pv_usb_frame_header_t *, const pv_point_t *pts,
   pv_session_push(s->session, pts, n);
 }
 
-const char kUsage[] =
-    "usage: pitvol-usb-replay FILE.frames [--json] [--bench] [--corrupt RATE] [--drop RATE]\n"
-    "         [--duplicate RATE] [--seed S] [--stall-at-frame N] [--stall-at-byte B]\n"
-    "         [--short-reads] [--unplug-at-frame N] [--replug-after MS] [--fps F]\n"
-    "         [--timeout S]\n"
-    "       pitvol-usb-replay --help\n"
-    "       (runs itself under umockdev-wrapper)\n";
-
-int usage(const char *why) {
-  if (why != nullptr) std::fprintf(stderr, "pitvol-usb-replay: %s\n", why);
-  std::fputs(kUsage, stderr);
-  return 2;
-}
-
-bool num(const char *s, double *out) {
-  char *end = nullptr;
-  *out = std::strtod(s, &end);
-  return end != s && *end == '\0' && std::isfinite(*out);
-}
+// A number option's value must be finite (CLI11's ranges let NaN pass).
+const CLI::Validator kFinite(
+    [](const std::string &v) {
+      double d = 0;
+      return CLI::detail::lexical_cast(v, d) && std::isfinite(d) ? std::string() : "not a finite number: " + v;
+    },
+    "");
 
 const char *state_name(pv_usb_state_t st) {
   switch (st) {
@@ -86,13 +76,59 @@ struct SessionBlock {
 }  // namespace
 
 int main(int argc, char **argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
+  std::string path;
+  bool json = false, bench = false;
+  double fps = 0, timeout_s = 60;
+  pv_emu_options_t eo;
+  pv_emu_options_default(&eo);
+  bool short_reads = false;
+
+  // The command line (CLI11, as pitvol's); errors one line, exit 2.
+  CLI::App app{"Replays a .frames file through the emulated USB scanner (umockdev) into the measuring "
+               "core; runs itself under umockdev-wrapper.",
+               "pitvol-usb-replay"};
+  app.get_formatter()->label("Usage", "usage");
+  app.footer("exit codes as pitvol: 0 measured, 2 usage, 3 input/USB failure, 4 no measurement,\n"
+             "            5 internal error");
+  app.add_option("FILE", path, "a .frames file (pitvol-sim --frames)")->required()->type_name("FILE.frames");
+  app.add_flag("--json", json, "one JSON object on stdout");
+  app.add_flag("--bench", bench, "also points/s and MB/s");
+  app.add_option("--corrupt", eo.corrupt_rate, "flip the CRC of this share of frames")->type_name("RATE")->check(kFinite & CLI::Range(0.0, 1.0).description("0 .. 1"));
+  app.add_option("--drop", eo.drop_rate, "leave out this share of frames")->type_name("RATE")->check(kFinite & CLI::Range(0.0, 1.0).description("0 .. 1"));
+  app.add_option("--duplicate", eo.duplicate_rate, "send this share of frames twice")
+      ->type_name("RATE")->check(kFinite & CLI::Range(0.0, 1.0).description("0 .. 1"));
+  app.add_option("--seed", eo.seed, "seed for the three above and --short-reads")->type_name("S");
+  app.add_option("--stall-at-frame", eo.stall_at_frame, "halt the endpoint once at frame N")
+      ->type_name("N")->check(CLI::NonNegativeNumber);
+  app.add_option("--stall-at-byte", eo.stall_at_byte, "halt the endpoint once at byte B")
+      ->type_name("B")->check(CLI::NonNegativeNumber);
+  app.add_flag("--short-reads", short_reads, "URBs return a random 1..len bytes");
+  app.add_option("--unplug-at-frame", eo.unplug_at_frame, "unplug half way through frame N ...")
+      ->type_name("N")->check(CLI::NonNegativeNumber);
+  app.add_option("--replug-after", eo.replug_after_ms, "... and plug back after MS (default 200)")
+      ->type_name("MS")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--fps", fps, "pace the device to F average frames per second (default: full speed)")
+      ->type_name("F")
+      ->check(kFinite & CLI::Validator(
+                            [](const std::string &v) {
+                              const double f = std::strtod(v.c_str(), nullptr);
+                              return f > 0 && f <= 10000 ? std::string() : v + " is not in 0 < F <= 10000";
+                            },
+                            "0 < F <= 10000"));
+  app.add_option("--timeout", timeout_s, "give up after S seconds (default 60)")
+      ->type_name("S")
+      ->check(kFinite & CLI::PositiveNumber);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp &e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError &e) {
+    std::fprintf(stderr, "pitvol-usb-replay: %s (pitvol-usb-replay --help lists the options)\n", e.what());
+    return 2;
   }
-  if (argc < 2) return usage(nullptr);
+  eo.short_reads = short_reads ? 1 : 0;
+
   if (!pv_emu_available() && std::getenv("PITVOL_USB_REPLAY_NO_REEXEC") == nullptr) {
     // The emulator needs libumockdev-preload: run again under the wrapper.
     setenv("PITVOL_USB_REPLAY_NO_REEXEC", "1", 1);
@@ -105,49 +141,6 @@ int main(int argc, char **argv) {
                  std::strerror(errno));
     return 3;
   }
-
-  std::string path;
-  bool json = false, bench = false;
-  double fps = 0, timeout_s = 60;
-  pv_emu_options_t eo;
-  pv_emu_options_default(&eo);
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool more = i + 1 < argc;
-    double v = 0;
-    if (a == "--json") {
-      json = true;
-    } else if (a == "--bench") {
-      bench = true;
-    } else if (a == "--short-reads") {
-      eo.short_reads = 1;
-    } else if (a == "--corrupt" && more && num(argv[i + 1], &v) && v >= 0 && v <= 1) {
-      eo.corrupt_rate = v, ++i;
-    } else if (a == "--drop" && more && num(argv[i + 1], &v) && v >= 0 && v <= 1) {
-      eo.drop_rate = v, ++i;
-    } else if (a == "--duplicate" && more && num(argv[i + 1], &v) && v >= 0 && v <= 1) {
-      eo.duplicate_rate = v, ++i;
-    } else if (a == "--seed" && more && num(argv[i + 1], &v) && v >= 0) {
-      eo.seed = uint64_t(v), ++i;
-    } else if (a == "--stall-at-frame" && more && num(argv[i + 1], &v) && v >= 0) {
-      eo.stall_at_frame = int64_t(v), ++i;
-    } else if (a == "--stall-at-byte" && more && num(argv[i + 1], &v) && v >= 0) {
-      eo.stall_at_byte = int64_t(v), ++i;
-    } else if (a == "--unplug-at-frame" && more && num(argv[i + 1], &v) && v >= 0) {
-      eo.unplug_at_frame = int64_t(v), ++i;
-    } else if (a == "--replug-after" && more && num(argv[i + 1], &v) && v >= 0) {
-      eo.replug_after_ms = int(v), ++i;
-    } else if (a == "--fps" && more && num(argv[i + 1], &v) && v > 0 && v <= 10000) {
-      fps = v, ++i;
-    } else if (a == "--timeout" && more && num(argv[i + 1], &v) && v > 0) {
-      timeout_s = v, ++i;
-    } else if (!a.empty() && a[0] != '-' && path.empty()) {
-      path = a;
-    } else {
-      return usage(("unknown or incomplete option '" + a + "'").c_str());
-    }
-  }
-  if (path.empty()) return usage("a .frames file is required");
 
   char err[512] = "";
   pv_emu_t *emu = nullptr;

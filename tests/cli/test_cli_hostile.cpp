@@ -169,6 +169,34 @@ void help_on_every_command_of_every_tool(void **) {
   }
 }
 
+// A bad command line of the tools whose main() parses with CLI11: one line
+// naming what is wrong, exit 2 (they printed the whole usage text).
+void argument_errors_of_every_tool_are_one_line(void **) {
+  const char *cases[][3] = {
+      {"pitvol-bench", "--bogus", "--bogus"},
+      {"pitvol-bench", "--scale 10", "--scale"},
+      {"pitvol-bench", "--scan-points 10", "--scan-points"},
+      {"pitvol-accuracy", "", "DIR is required"},
+      {"pitvol-accuracy", "corpus --jobs 2", "--jobs: a sweep only: give --envelope"},
+      {"pitvol-accuracy", "sweep --envelope --check x.csv", "--check: not with --envelope"},
+      {"pitvol-accuracy", "corpus --peers grid25,nope", "unknown peer 'nope'"},
+      {"pitvol-accuracy", "sweep --envelope --method surface --method paper", "one method"},
+      {"pitvol-usb-replay", "x.frames --corrupt 2", "--corrupt"},
+      {"pitvol-usb-replay", "x.frames --drop nan", "not a finite number"},
+      {"pitvol-usb-replay", "x.frames --fps 0", "--fps"},
+  };
+  for (const auto &c : cases) {
+    const Run r = run_tool(c[0], c[1]);
+    const bool one_line = std::count(r.err.begin(), r.err.end(), '\n') == 1;
+    if (r.exit_code != 2 || !one_line || r.err.find(c[2]) == std::string::npos ||
+        r.err.rfind(std::string(c[0]) + ": ", 0) != 0) {
+      print_error("%s %s: exit %d, stderr '%s' (want exit 2, one line with '%s')\n", c[0], c[1],
+                  r.exit_code, r.err.c_str(), c[2]);
+      fail();
+    }
+  }
+}
+
 // ---- messages with numbers ---------------------------------------------------
 
 // The scan with the wall band 100..150 mm above the floor cut out: the
@@ -316,6 +344,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(layers_to_unwritable_path_fails_before_measuring),
       cmocka_unit_test(layers_to_full_disk_exits_non_zero),
       cmocka_unit_test(help_on_every_command_of_every_tool),
+      cmocka_unit_test(argument_errors_of_every_tool_are_one_line),
       cmocka_unit_test(wall_gap_message_gives_the_heights),
       cmocka_unit_test(not_a_pit_names_the_check_and_its_figure),
       cmocka_unit_test(doubled_scan_names_the_check_and_its_figure),
