@@ -18,13 +18,25 @@ namespace pv::rim {
 constexpr uint32_t kRimSectors = 36;
 constexpr int kRimTops = 8;
 
+// A sector keeps its kRimTops highest points. Where far strays fill them
+// all (a long or large scan: 8 strays above the rim of one 10 deg sector),
+// dig() lowers that sector's ceiling to its lowest kept point and empties
+// it, and the points are offered again: the strays are dug through, not
+// counted, and the memory stays 36 x 8 points.
 struct SectorTops {
   double cx = 0, cy = 0;             // centre of the sectors
   float z[kRimSectors][kRimTops];    // highest first
   float x[kRimSectors][kRimTops], y[kRimSectors][kRimTops];
+  float ceiling[kRimSectors];        // points above it are not offered
+  bool open[kRimSectors];            // offer() fills it (dig() closes the rest)
   void clear(double centre_x, double centre_y);
   void offer(double px, double py, double pz);
+  // Full sectors without a top: ceiling lowered, emptied. Returns whether
+  // any was (offer the points again then).
+  bool dig();
 };
+// Rounds of SectorTops::dig() (passes over the points) at most.
+constexpr int kRimDigRounds = 6;
 
 struct RimPlane {
   bool found = false;

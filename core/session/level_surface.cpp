@@ -57,10 +57,13 @@ void sector_tops(const pv_session *s, const levelling::Transform &t, rim::Sector
   }
   if (n == 0) n = 1;
   tops->clear(sx / double(n), sy / double(n));
-  for (uint32_t b = 0; b < bins.layers(); ++b) {
-    for (uint32_t i = 0; i < bins.count(b); ++i) {
-      const Eigen::Vector3d v = t.apply(bins.points(b)[i]);
-      tops->offer(v.x(), v.y(), v.z());
+  for (int round = 0; round <= rim::kRimDigRounds; ++round) {
+    if (round > 0 && !tops->dig()) break;
+    for (uint32_t b = 0; b < bins.layers(); ++b) {
+      for (uint32_t i = 0; i < bins.count(b); ++i) {
+        const Eigen::Vector3d v = t.apply(bins.points(b)[i]);
+        tops->offer(v.x(), v.y(), v.z());
+      }
     }
   }
 }

@@ -1,6 +1,8 @@
 // The rim as a plane through the sector tops (method surface's lid when the
 // scan has no ground ring): known tilted planes, unscanned tops, strays.
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "rim/rim_plane.h"
 #include "test_rng.h"
@@ -82,6 +84,41 @@ void a_stray_above_the_rim_is_not_a_top(void **) {
   expect_plane(p, lid);
 }
 
+// Eight lone strays above the lid in every sector fill all its slots (a
+// long or a large scan): no sector has a top, and no rim. dig() lowers each
+// such sector's ceiling and the points offered again give the lid's tops,
+// while a sector with a top keeps it and takes no point twice.
+void eight_strays_per_sector_are_dug_through(void **) {
+  Rng r{11};
+  const Lid lid{760.0, 0.02, -0.01};
+  std::vector<std::array<double, 3>> pts;
+  for (uint32_t s = 0; s < kRimSectors; ++s) {
+    const double th = (s + 0.2 + 0.6 * r.uniform()) * 2 * kPi / kRimSectors;
+    const double x = kCx + kRadius * std::cos(th), y = kCy + kRadius * std::sin(th);
+    for (int k = 0; k < 12; ++k) pts.push_back({x, y, lid.at(x, y) - (k < 3 ? k : 5.0 * k)});
+    if (s == 0) continue;  // sector 0: its top stands
+    for (int q = 0; q < 8; ++q) {
+      const double ts = (s + 0.5) * 2 * kPi / kRimSectors, rs = 200.0 + 30.0 * q;
+      pts.push_back({kCx + rs * std::cos(ts), kCy + rs * std::sin(ts), lid.at(x, y) + 10.0 + 7.0 * q});
+    }
+  }
+  pv::rim::SectorTops t;
+  t.clear(kCx, kCy);
+  for (const auto &p : pts) t.offer(p[0], p[1], p[2]);
+  assert_false(pv::rim::fit_rim_plane(t).found);
+  int rounds = 0;
+  while (rounds < pv::rim::kRimDigRounds && t.dig()) {
+    for (const auto &p : pts) t.offer(p[0], p[1], p[2]);
+    ++rounds;
+  }
+  assert_true(rounds >= 1);
+  const pv::rim::RimPlane p = pv::rim::fit_rim_plane(t);
+  assert_true(p.found);
+  assert_int_equal(p.sectors, kRimSectors);
+  expect_plane(p, lid);
+  assert_true(t.z[0][0] > t.z[0][1]);  // sector 0 not offered twice
+}
+
 void too_few_sectors_on_a_plane(void **) {
   // Every other sector's top 20 mm down: 18 tops on either plane, under 24.
   Rng r{10};
@@ -119,6 +156,7 @@ void an_empty_scan_has_no_rim(void **) {
 int main() {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(finds_a_tilted_rim),
+      cmocka_unit_test(eight_strays_per_sector_are_dug_through),
       cmocka_unit_test(unscanned_tops_do_not_tilt_it),
       cmocka_unit_test(a_stray_above_the_rim_is_not_a_top),
       cmocka_unit_test(too_few_sectors_on_a_plane),
