@@ -56,7 +56,8 @@ GroundPlane fit_ground_plane(const Eigen::Vector3d *pts, size_t n, const Params 
 
 // weight[j]: points per final layer j, each stored point counted with the
 // thinning factor of its bin. Returns the wall-top height, or a negative
-// value if no run of wall layers is found.
+// value if no run of wall layers is found, or if the wall fades out above
+// it instead of ending (no top edge was scanned).
 double wall_top_mm(const double *weight, const gridding::Grid &grid,
                    double *scratch);
 

@@ -113,6 +113,26 @@ void wall_top_to_a_fraction_of_a_layer(void **) {
   assert_true(std::fabs(top - rim) < 1e-9);
 }
 
+// A wall whose scan thins out towards a rim it never reached: its weight
+// falls linearly from 1000 per layer at 150 mm to 0 at 250 mm. The half
+// weight lies at 200 mm, but that is no top edge: no rim. The same wall
+// cut at 200 mm (an edge) still has its top there.
+void a_fading_wall_has_no_top(void **) {
+  pv::gridding::Grid g{0.5, 600, 8};
+  std::vector<double> w(g.layers, 0.0), scratch(g.layers);
+  for (uint32_t j = 0; j < g.layers; ++j) {
+    const double z = g.z_of(j);
+    if (z >= 0 && z < 150) w[j] = 1000.0;
+    if (z >= 150 && z < 250) w[j] = 1000.0 * (250.0 - z) / 100.0;
+  }
+  assert_true(pv::rim::wall_top_mm(w.data(), g, scratch.data()) < 0);
+  for (uint32_t j = 0; j < g.layers; ++j) {
+    if (g.z_of(j) > 200.0) w[j] = 0.0;
+  }
+  const double top = pv::rim::wall_top_mm(w.data(), g, scratch.data());
+  assert_true(std::fabs(top - 200.0) < 0.5);
+}
+
 void no_wall_no_rim(void **) {
   pv::gridding::Grid g{0.5, 600, 8};
   std::vector<double> w(g.layers, 0.0), scratch(g.layers);
@@ -130,6 +150,7 @@ int main() {
       cmocka_unit_test(ground_plane_found_12_degrees_off),
       cmocka_unit_test(ground_plane_beyond_20_degrees_is_not_ground),
       cmocka_unit_test(wall_top_to_a_fraction_of_a_layer),
+      cmocka_unit_test(a_fading_wall_has_no_top),
       cmocka_unit_test(no_wall_no_rim),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
