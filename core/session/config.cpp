@@ -9,7 +9,7 @@ extern "C" void pv_config_default(pv_config_t *cfg) {
   if (cfg == nullptr) return;
   std::memset(cfg, 0, sizeof *cfg);
   cfg->method = PV_METHOD_SURFACE;  // docs/accuracy.md: measured, family by family
-  cfg->max_layers = 1280;          // 640 mm of depth at 0.5 mm
+  cfg->max_layers = 1920;          // 960 mm of depth at 0.5 mm: 0.5 m3 pits
   cfg->points_per_layer = 1024;
   cfg->level_sample_points = 8192;
   cfg->warmup_points = 32768;

@@ -224,12 +224,33 @@ surface::Status build_surface_model(pv_session *s, const levelling::Transform &t
 
 namespace {
 
+// Pits wider than the grids: the grids' cells, integration rings and axis
+// slabs scaled by up to kMaxGridScale (320 mm -> 880 mm of radius, the
+// widest test pits: ASTM D5030's 1-1.5 m rockfill pits), enough for the
+// widest wall radius the first model saw plus kWidthMarginShare (the axis
+// and the floor's edge move with the finer model), in steps of 1/8.
+constexpr double kMaxGridScale = 2.75;
+constexpr double kWidthMarginShare = 0.1;
+double grid_scale_for(double wall_radius_mm, double grid_radius_mm) {
+  const double need = wall_radius_mm * (1.0 + kWidthMarginShare) / (grid_radius_mm - 5.0);
+  if (!(need > 1.0)) return 1.0;
+  const double scale = std::ceil(need * 8.0) / 8.0;
+  return scale <= kMaxGridScale ? scale : 0.0;
+}
+surface::Params scaled_params(surface::Params p, double scale) {
+  if (scale == 1.0) return p;
+  p.cell_mm *= scale;
+  p.integrate_dr_mm *= scale;
+  return p;
+}
+
 // Method surface's model of the stored points levelled by t, as far as it
 // got: the model, its integral, its section per integration step (in the
 // area-sequence arrays) and its parameters.
 struct CheckedModel {
   surface::Params p;
   surface::Model m;
+  surface::Occupancy occ{};
   surface::Profile prof{};
   surface::Volume v{};
 };
@@ -237,9 +258,9 @@ struct CheckedModel {
 // Builds and integrates the model (every kEstimateStride-th point while
 // estimating) and holds it to the plausibility checks: PV_OK, or the status
 // to refuse with (out's check fields set for PV_ERR_NOT_A_PIT).
-pv_status_t build_and_check(pv_session *s, const levelling::Transform &t, double rim_mm,
-                            pv_result_t *out, CheckedModel *c) {
-  c->p = surface_params(s->cfg);
+pv_status_t build_and_check_at(pv_session *s, const levelling::Transform &t, double rim_mm,
+                               double scale, pv_result_t *out, CheckedModel *c) {
+  c->p = scaled_params(surface_params(s->cfg), scale);
   const uint32_t stride = s->estimating ? kEstimateStride : 1u;
   const surface::Status st = build_surface_model(s, t, rim_mm, stride, c->p, &c->m);
   if (st == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;
@@ -259,15 +280,37 @@ pv_status_t build_and_check(pv_session *s, const levelling::Transform &t, double
   const surface::PointSource src_occ{&lv_occ, visit_points};
   s->surf.point_theta = nullptr;
   s->surf.point_theta_cap = 0;
-  const surface::Occupancy occ = surface::occupancy(src_occ, s->surf, c->m, c->p, kInsideMarginMm);
+  c->occ = surface::occupancy(src_occ, s->surf, c->m, c->p, kInsideMarginMm);
   const bool ghost_checks = ghost_checks_apply(c->p);
   const bool floor_check = ghost_checks && s->cfg.method == PV_METHOD_SURFACE;
-  if (check_pit(occ, c->m, ghost_checks, floor_check, c->v.rim_area_mm2, max_section, out->tilt_deg,
-                double(s->cfg.max_opening_tilt_deg), double(s->cfg.surface_max_radius_mm),
-                c->v.volume_mm3, out) != PV_PIT_CHECK_NONE) {
+  if (check_pit(c->occ, c->m, ghost_checks, floor_check, c->v.rim_area_mm2, max_section,
+                out->tilt_deg, double(s->cfg.max_opening_tilt_deg),
+                scale * double(s->cfg.surface_max_radius_mm), c->v.volume_mm3,
+                out) != PV_PIT_CHECK_NONE) {
     return PV_ERR_NOT_A_PIT;
   }
   return PV_OK;
+}
+
+// Builds and integrates the model (every kEstimateStride-th point while
+// estimating) and holds it to the plausibility checks: PV_OK, or the status
+// to refuse with (out's check fields set for PV_ERR_NOT_A_PIT). A pit wider
+// than the grids (surface_max_radius_mm) is built again on grids scaled to
+// it (scaled_params()): the same number of floor cells and integration
+// rings over up to kMaxGridScale times the radius, so the block stays what
+// it was and an ordinary pit's model stays bit for bit what it was.
+pv_status_t build_and_check(pv_session *s, const levelling::Transform &t, double rim_mm,
+                            pv_result_t *out, CheckedModel *c) {
+  const pv_status_t st = build_and_check_at(s, t, rim_mm, 1.0, out, c);
+  // The wall beyond the grids' edge: the clipped model may fail another
+  // check first (its floor map cut off, points inside what it saw).
+  const bool built = st == PV_OK || st == PV_ERR_NOT_A_PIT;
+  if (!built || !(c->occ.max_radius_mm > double(s->cfg.surface_max_radius_mm) - 5.0)) return st;
+  const double scale = grid_scale_for(c->occ.max_radius_mm, double(s->cfg.surface_max_radius_mm));
+  if (!(scale > 1.0)) return st;
+  out->failed_check = PV_PIT_CHECK_NONE;
+  out->check_value = out->check_limit = 0.0;
+  return build_and_check_at(s, t, rim_mm, scale, out, c);
 }
 
 }  // namespace

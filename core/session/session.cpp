@@ -31,6 +31,8 @@ void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
   const int64_t j = s->provisional_map.layer_of(p);
   if (j < 0) {
     ++s->points_out_of_range;
+    const gridding::LayerMap &m = s->provisional_map;
+    if (m.a * p.x_mm + m.b * p.y_mm + m.c * p.z_mm + m.d >= m.layers) ++s->points_above_range;
     return;
   }
   if (uint32_t(j) < s->floor_layers) {
@@ -43,10 +45,26 @@ void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
 // Re-estimates the provisional plane from the sample. Later points are
 // binned with it; points already binned are re-assigned at finish.
 void refine(pv_session *s) {
-  // The first fit searches both orientations; later ones refine the last.
+  // The first fit searches both orientations; later ones refine the last,
+  // unless the search from both, as finish() does it, turns the scan over:
+  // a scan that starts over the ground can be levelled upside down by its
+  // first points, and refining kept it so; the ground then went to the
+  // floor store, where neither the rim plane nor the ground looks (a
+  // 754 mm pit read its rim at 722 mm).
   levelling::Transform t;
-  const Eigen::Matrix3d *from = s->have_fit ? &s->provisional.R : nullptr;
-  if (fit_sample(s, &t, from) == levelling::Status::Ok) {
+  levelling::Status st = levelling::Status::NoPlane;
+  if (s->have_fit) {
+    st = fit_sample(s, &t, &s->provisional.R);
+    levelling::Transform both;
+    if (fit_sample(s, &both, nullptr) == levelling::Status::Ok &&
+        (st != levelling::Status::Ok || both.R.row(2).dot(t.R.row(2)) < 0.0)) {
+      t = both;
+      st = levelling::Status::Ok;
+    }
+  } else {
+    st = fit_sample(s, &t, nullptr);
+  }
+  if (st == levelling::Status::Ok) {
     set_provisional(s, t);
     s->have_fit = true;
   }
@@ -189,7 +207,7 @@ namespace {
 
 void reset_counters(pv_session *s) {
   s->finished = false;
-  s->points_in = s->points_invalid = s->points_out_of_range = 0;
+  s->points_in = s->points_invalid = s->points_out_of_range = s->points_above_range = 0;
   s->points_duplicate = s->points_accepted = 0;
   if (s->cfg.duplicate_filter != 0) s->duplicates.clear();
   s->sample.clear();

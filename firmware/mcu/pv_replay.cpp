@@ -40,7 +40,7 @@ alignas(PV_BLOCK_ALIGN) PV_BLOCK_SECTION unsigned char g_block[PV_REPLAY_BLOCK_B
 
 constexpr size_t kBatchPoints = 4096;
 pv_point_t g_batch[kBatchPoints];
-pv_layer_info_t g_layers[1280];  // max_layers of both configurations
+pv_layer_info_t g_layers[2048];  // max_layers of both configurations (1920, 200)
 
 // Hex printing by hand: newlib's printf may lack %a and long long.
 void put_hex(const char *name, uint64_t v, int digits) {

@@ -103,7 +103,7 @@ std::vector<CorpusCase> stress_corpus() {
     c.pit.stone_x_mm = 35.0;
     c.pit.stone_y_mm = -20.0;
   }
-  // 600 mm deep: near the core's capacity (max_layers 1280 x 0.5 mm = 640 mm).
+  // 600 mm deep: within the core's depth range (max_layers 1920 x 0.5 mm = 960 mm).
   add("depth_capacity", Family::Cylinder, true, 0.05).pit.depth_mm = 600.0;
   return cases;
 }

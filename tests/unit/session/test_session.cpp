@@ -168,13 +168,42 @@ void a_scan_that_cannot_be_measured_says_why(void **) {
   const pv_status_t st = pv_session_finish(t.s, &r);
   assert_true(st == PV_ERR_NO_RIM || st == PV_ERR_TOO_FEW_LAYERS);
   assert_true(std::strlen(pv_status_message(st)) > 20);
-  // A pit deeper than the depth range.
+  // A pit deeper than the depth range (960 mm).
   pv::synth::PitSpec deep;
-  deep.depth_mm = 700;
+  deep.depth_mm = 1050;
   deep.ground_width_mm = 60;
   pv_session_reset(t.s);
   t.push_all(scan_points(deep, 200000), 4096);
   assert_int_equal(pv_session_finish(t.s, &r), PV_ERR_DEPTH_EXCEEDS_CAPACITY);
+}
+
+// The default configuration's range: an 800 mm deep hole and a pit 1.2 m
+// across (0.51 m3, ASTM D5030's rockfill pits) measure in the same block
+// as the corpus's 10 L pits; the wide one on grids scaled to it.
+void deep_and_wide_pits_measure(void **) {
+  pv::synth::PitSpec deep;
+  deep.depth_mm = 800;
+  deep.ground_width_mm = 80;
+  pv::synth::PitSpec wide;
+  wide.radius_bottom_mm = 560;
+  wide.radius_top_mm = 600;
+  wide.depth_mm = 450;
+  wide.ground_width_mm = 100;
+  wide.tilt_deg = 5.0;
+  for (const pv::synth::PitSpec &spec : {deep, wide}) {
+    TestSession t;
+    t.push_all(scan_points(spec, 400000), 4096);
+    pv_result_t r;
+    const pv_status_t st = pv_session_finish(t.s, &r);
+    if (st != PV_OK) {
+      fail_msg("%g x %g mm: %s %s (%g against %g)", spec.radius_top_mm, spec.depth_mm, pv_status_name(st),
+               pv_pit_check_name(r.failed_check), r.check_value, r.check_limit);
+    }
+    const double exact = pv::synth::exact_volume_cm3(spec);
+    if (!(std::fabs(rel_err(r.volume_cm3, exact)) < kVolumeTol)) {
+      fail_msg("%g x %g mm: %g cm3 against %g", spec.radius_top_mm, spec.depth_mm, r.volume_cm3, exact);
+    }
+  }
 }
 
 void bad_arguments_and_blocks_are_refused(void **) {
@@ -217,6 +246,7 @@ int main() {
       cmocka_unit_test(estimate_during_warmup_changes_nothing),
       cmocka_unit_test(invalid_points_are_counted_and_skipped),
       cmocka_unit_test(a_scan_that_cannot_be_measured_says_why),
+      cmocka_unit_test(deep_and_wide_pits_measure),
       cmocka_unit_test(bad_arguments_and_blocks_are_refused),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);

@@ -104,7 +104,7 @@ void capacities_size_the_block(void **) {
   cfg.surface_wall_dz_mm = 4.0f;
   assert_int_equal(pv_session_size(&cfg, &coarse), PV_OK);
   assert_true(coarse < full);
-  assert_true(full < size_t(32) << 20);  // 37.6 MB before the overlay (docs/memory.md)
+  assert_true(full < size_t(48) << 20);  // 960 mm of depth range (docs/memory.md)
 }
 
 }  // namespace
