@@ -1,6 +1,6 @@
 /* The board's clock in a result (docs/protocol/serial.md, Result.time_unix_s).
  * Header-only: the board application and the serial test device
- * (tests/serial/pv_test_device.cpp) apply the same rule. */
+ * (tests/monitor/pv_test_device.cpp) apply the same rule. */
 #ifndef PV_BOARD_CLOCK_H
 #define PV_BOARD_CLOCK_H
 

@@ -3,7 +3,7 @@
  * required compaction, set over the link (SetRecord) or by the board's
  * configuration, and the verdict of a result against them. Header-only:
  * the board application and the serial test device
- * (tests/serial/pv_test_device.cpp) apply and fill them by the same rule. */
+ * (tests/monitor/pv_test_device.cpp) apply and fill them by the same rule. */
 #ifndef PV_BOARD_RECORD_H
 #define PV_BOARD_RECORD_H
 

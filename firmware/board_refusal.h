@@ -1,6 +1,6 @@
 /* Why a result has no volume, on the wire (docs/protocol/serial.md,
  * Result.failed_check .. gap_to_mm). Header-only: the board application and
- * the serial test device (tests/serial/pv_test_device.cpp) fill the same
+ * the serial test device (tests/monitor/pv_test_device.cpp) fill the same
  * fields by the same rule. */
 #ifndef PV_BOARD_REFUSAL_H
 #define PV_BOARD_REFUSAL_H

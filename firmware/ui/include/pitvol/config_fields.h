@@ -3,7 +3,7 @@
  * the range pv_config_validate() allows each one, for every file that
  * sets them: `pitvol measure --config FILE` and the board's configuration
  * (`core.<name>`). A refused value is one line that names the key, the
- * value and the allowed range. tests/unit/board checks the ranges against
+ * value and the allowed range. tests/firmware/board checks the ranges against
  * pv_config_validate() at both ends of each.
  */
 #ifndef PITVOL_CONFIG_FIELDS_H
