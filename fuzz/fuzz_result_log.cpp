@@ -39,6 +39,7 @@
 
 #include "fuzz_support.h"
 #include "pitvol/crc32c.h"
+#include "pitvol/le_bytes.h"
 #include "pitvol/result_log.h"
 
 namespace {
@@ -69,10 +70,6 @@ const std::string &log_dir() {
     std::atexit(remove_dir);
   }
   return g_dir;
-}
-
-uint32_t get_u32(const uint8_t *p) {
-  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
 }
 
 // The input read front to back; zeros once it runs out.
@@ -156,12 +153,12 @@ std::vector<Placed> parse_clean(const std::vector<Segment> &segs) {
       const size_t left = s.bytes.size() - at;
       PV_FUZZ_CHECK(left >= PV_LOG_HEADER_BYTES + PV_LOG_CRC_BYTES, "segment %u: %zu stray bytes at %zu",
                     s.number, left, at);
-      PV_FUZZ_CHECK(get_u32(r) == PV_LOG_RECORD_MAGIC, "segment %u: no magic at %zu", s.number, at);
-      const uint32_t seq = get_u32(r + 4), len = get_u32(r + 8);
+      PV_FUZZ_CHECK(pv_get_le32(r) == PV_LOG_RECORD_MAGIC, "segment %u: no magic at %zu", s.number, at);
+      const uint32_t seq = pv_get_le32(r + 4), len = pv_get_le32(r + 8);
       PV_FUZZ_CHECK(len <= PV_LOG_MAX_PAYLOAD_BYTES && PV_LOG_RECORD_BYTES(len) <= left,
                     "segment %u: length %u at %zu", s.number, len, at);
       const size_t body = PV_LOG_HEADER_BYTES + len;
-      PV_FUZZ_CHECK(pv_crc32c(0, r, body) == get_u32(r + body), "segment %u: CRC fails at %zu",
+      PV_FUZZ_CHECK(pv_crc32c(0, r, body) == pv_get_le32(r + body), "segment %u: CRC fails at %zu",
                     s.number, at);
       PV_FUZZ_CHECK(seq > last, "segment %u: record %u after %u", s.number, seq, last);
       last = seq;

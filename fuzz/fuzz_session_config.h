@@ -24,7 +24,7 @@ inline std::vector<pv_point_t> input_points(const uint8_t *data, size_t size, ui
 // The surface model's grids, smaller than the default's (2 deg, 2 mm cells
 // out to 320 mm: 5 MB written by every estimate and finish, most of an
 // execution): the same code on fewer bins, or the coarse-bin code of the
-// MCU profile (firmware/mcu/mcu_config.h). fuzz_session's paper and polar
+// MCU profile (pv_config_mcu()). fuzz_session's paper and polar
 // use the fine grids for the model their plausibility checks build.
 enum class Grids { Default, Fine, Coarse };
 

@@ -12,6 +12,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "pitvol/splitmix64.h"
+
 #define PV_FUZZ_CHECK(cond, ...)                                              \
   do {                                                                        \
     if (!(cond)) {                                                            \
@@ -53,12 +55,7 @@ class MemFile {
 // sizes): same input, same run.
 struct Draw {
   uint64_t state;
-  uint64_t next() {  // splitmix64
-    uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
+  uint64_t next() { return pv_splitmix64_next(&state); }
   size_t below(size_t n) { return n == 0 ? 0 : size_t(next() % n); }
 };
 

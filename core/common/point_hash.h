@@ -10,17 +10,11 @@
 #include <cstring>
 
 #include "common/geometry.h"
+#include "pitvol/splitmix64.h"
 
 namespace pv {
 
-inline uint64_t mix64(uint64_t v) {  // splitmix64 finaliser
-  v ^= v >> 30;
-  v *= 0xbf58476d1ce4e5b9ull;
-  v ^= v >> 27;
-  v *= 0x94d049bb133111ebull;
-  v ^= v >> 31;
-  return v;
-}
+inline uint64_t mix64(uint64_t v) { return pv_splitmix64_mix(v); }
 
 inline uint64_t point_hash(const P3 &p) {
   uint32_t b[3];
@@ -36,10 +30,7 @@ inline uint64_t point_hash(const P3 &p) {
 // Deterministic PRNG for RANSAC: same seed, same draws, on every platform.
 struct SplitMix64 {
   uint64_t state;
-  uint64_t next() {
-    state += 0x9e3779b97f4a7c15ull;
-    return mix64(state);
-  }
+  uint64_t next() { return pv_splitmix64_next(&state); }
   // Uniform integer in [0, n), n > 0 (modulo bias negligible for n << 2^64).
   uint32_t below(uint32_t n) { return uint32_t(next() % n); }
 };

@@ -13,13 +13,10 @@
 #include <string.h>
 
 #include "pitvol/canvas.h"
+#include "pitvol/le_bytes.h"
 
 #define PSF2_MAGIC 0x864ab572u
 #define PSF2_HAS_UNICODE_TABLE 0x01u
-
-static uint32_t le32(const uint8_t *p) {
-  return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
 
 /* Decodes one UTF-8 code point at p (< end); returns bytes used (0: bad). */
 static size_t utf8_decode(const uint8_t *p, const uint8_t *end, uint32_t *cp) {
@@ -56,12 +53,12 @@ int pv_font_parse_psf2(pv_font_t *f, const uint8_t *data, size_t len, const char
     *why = "font shorter than a PSF2 header";
     return -1;
   }
-  if (le32(data) != PSF2_MAGIC) {
+  if (pv_get_le32(data) != PSF2_MAGIC) {
     *why = "not a PSF2 font (bad magic; PSF1 and gzip are not read: gunzip it first)";
     return -1;
   }
-  const uint32_t header = le32(data + 8), flags = le32(data + 12), count = le32(data + 16),
-                 per_glyph = le32(data + 20), height = le32(data + 24), width = le32(data + 28);
+  const uint32_t header = pv_get_le32(data + 8), flags = pv_get_le32(data + 12), count = pv_get_le32(data + 16),
+                 per_glyph = pv_get_le32(data + 20), height = pv_get_le32(data + 24), width = pv_get_le32(data + 28);
   const uint32_t row_bytes = (width + 7u) / 8u;
   if (width == 0 || height == 0 || width > 64 || height > 128 || count == 0 || count > 65536 ||
       per_glyph != row_bytes * height) {

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "pitvol/crc32c.h"
+#include "pitvol/le_bytes.h"
 
 #define SEG_NAME_FMT "seg-%08u.pvlog"
 #define SEG_NAME_LEN 18 /* "seg-" + 8 digits + ".pvlog" */
@@ -24,17 +25,6 @@
 #define FLOOR_TMP_NAME "floor.pvlog.tmp"
 #define FLOOR_MAGIC 0x31465650u
 #define PV_LOG_SEQ_LIMIT 0x80000000u
-
-static void put_u32(uint8_t *p, uint32_t v) {
-  p[0] = (uint8_t)v;
-  p[1] = (uint8_t)(v >> 8);
-  p[2] = (uint8_t)(v >> 16);
-  p[3] = (uint8_t)(v >> 24);
-}
-
-static uint32_t get_u32(const uint8_t *p) {
-  return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
 
 const char *pv_log_status_name(pv_log_status_t status) {
   switch (status) {
@@ -116,8 +106,8 @@ static int write_at(int fd, const void *buf, size_t n, off_t at) {
 static size_t read_record(int fd, off_t at, off_t size, uint8_t *rec, size_t cap) {
   if (at + (off_t)PV_LOG_HEADER_BYTES > size) return 0;
   if (!read_at(fd, rec, PV_LOG_HEADER_BYTES, at)) return 0;
-  if (get_u32(rec) != PV_LOG_RECORD_MAGIC) return 0;
-  const uint32_t len = get_u32(rec + 8);
+  if (pv_get_le32(rec) != PV_LOG_RECORD_MAGIC) return 0;
+  const uint32_t len = pv_get_le32(rec + 8);
   if (len > PV_LOG_MAX_PAYLOAD_BYTES) return 0;
   const size_t total = PV_LOG_RECORD_BYTES(len);
   if (total > cap || at + (off_t)total > size) return 0;
@@ -125,7 +115,7 @@ static size_t read_record(int fd, off_t at, off_t size, uint8_t *rec, size_t cap
                at + (off_t)PV_LOG_HEADER_BYTES))
     return 0;
   const size_t body = total - PV_LOG_CRC_BYTES;
-  if (pv_crc32c(0, rec, body) != get_u32(rec + body)) return 0;
+  if (pv_crc32c(0, rec, body) != pv_get_le32(rec + body)) return 0;
   return total;
 }
 
@@ -177,7 +167,8 @@ static uint32_t segment_first_seq(const pv_log_t *log, uint32_t number) {
   if (fd < 0) return 0;
   uint8_t head[PV_LOG_HEADER_BYTES];
   uint32_t seq = 0;
-  if (read_at(fd, head, sizeof head, 0) && get_u32(head) == PV_LOG_RECORD_MAGIC) seq = get_u32(head + 4);
+  if (read_at(fd, head, sizeof head, 0) && pv_get_le32(head) == PV_LOG_RECORD_MAGIC)
+    seq = pv_get_le32(head + 4);
   close(fd);
   return seq;
 }
@@ -195,17 +186,17 @@ static uint32_t read_floor(const pv_log_t *log) {
   uint8_t b[12];
   const int ok = read_at(fd, b, sizeof b, 0);
   close(fd);
-  if (!ok || get_u32(b) != FLOOR_MAGIC || pv_crc32c(0, b, 8) != get_u32(b + 8)) return 0;
-  return get_u32(b + 4);
+  if (!ok || pv_get_le32(b) != FLOOR_MAGIC || pv_crc32c(0, b, 8) != pv_get_le32(b + 8)) return 0;
+  return pv_get_le32(b + 4);
 }
 
 /* Stores the floor durably: a temporary file, fsync, rename over the old
  * one, fsync of the directory (a cut leaves the old floor or the new). */
 static pv_log_status_t write_floor(pv_log_t *log, uint32_t floor) {
   uint8_t b[12];
-  put_u32(b, FLOOR_MAGIC);
-  put_u32(b + 4, floor);
-  put_u32(b + 8, pv_crc32c(0, b, 8));
+  pv_put_le32(b, FLOOR_MAGIC);
+  pv_put_le32(b + 4, floor);
+  pv_put_le32(b + 8, pv_crc32c(0, b, 8));
   const int fd = openat(log->dir_fd, FLOOR_TMP_NAME, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) return io_error(log);
   const int ok = write_at(fd, b, sizeof b, 0) && fsync(fd) == 0;
@@ -243,7 +234,7 @@ static void note_lost_records(pv_log_t *log, int fd, off_t at, off_t size, uint8
        * and is ignored rather than allowed to wrap the numbering. The
        * damaged record's own number is unknown (an earlier segment may be
        * gone, or rotated away), so no tighter bound is sound. */
-      const uint32_t seq = get_u32(rec + 4);
+      const uint32_t seq = pv_get_le32(rec + 4);
       if (seq > log->last_seq && seq < PV_LOG_SEQ_LIMIT) {
         log->recovery.records_lost++;
         if (seq > log->seq_floor) log->seq_floor = seq;
@@ -269,7 +260,7 @@ static pv_log_status_t recover_segment(pv_log_t *log, uint32_t number, int *fd_o
   for (;;) {
     const size_t n = read_record(fd, at, st.st_size, rec, sizeof rec);
     if (n == 0) break;
-    const uint32_t seq = get_u32(rec + 4);
+    const uint32_t seq = pv_get_le32(rec + 4);
     if (seq == 0 || seq <= log->last_seq) break; /* stale or foreign: not ours */
     if (log->first_seq == 0) log->first_seq = seq;
     log->last_seq = seq;
@@ -384,11 +375,11 @@ pv_log_status_t pv_log_append(pv_log_t *log, const void *payload, size_t len,
   }
   uint8_t rec[PV_LOG_RECORD_BYTES(PV_LOG_MAX_PAYLOAD_BYTES)];
   const uint32_t seq = log->seq_floor + 1;
-  put_u32(rec, PV_LOG_RECORD_MAGIC);
-  put_u32(rec + 4, seq);
-  put_u32(rec + 8, (uint32_t)len);
+  pv_put_le32(rec, PV_LOG_RECORD_MAGIC);
+  pv_put_le32(rec + 4, seq);
+  pv_put_le32(rec + 8, (uint32_t)len);
   if (len) memcpy(rec + PV_LOG_HEADER_BYTES, payload, len);
-  put_u32(rec + total - PV_LOG_CRC_BYTES, pv_crc32c(0, rec, total - PV_LOG_CRC_BYTES));
+  pv_put_le32(rec + total - PV_LOG_CRC_BYTES, pv_crc32c(0, rec, total - PV_LOG_CRC_BYTES));
   if (!write_at(log->fd, rec, total, (off_t)log->active_bytes) || fsync(log->fd) != 0) {
     const pv_log_status_t st = io_error(log);
     /* Leave no half record behind for the next append to follow. */
@@ -455,8 +446,8 @@ pv_log_status_t pv_log_next(pv_log_t *log, pv_log_cursor_t *cur, void *buf, size
     }
     uint8_t head[PV_LOG_HEADER_BYTES];
     if (!read_at(log->read_fd, head, sizeof head, cur->offset)) return PV_LOG_ERR_CORRUPT;
-    const uint32_t seq = get_u32(head + 4), len = get_u32(head + 8);
-    if (get_u32(head) != PV_LOG_RECORD_MAGIC || len > PV_LOG_MAX_PAYLOAD_BYTES)
+    const uint32_t seq = pv_get_le32(head + 4), len = pv_get_le32(head + 8);
+    if (pv_get_le32(head) != PV_LOG_RECORD_MAGIC || len > PV_LOG_MAX_PAYLOAD_BYTES)
       return PV_LOG_ERR_CORRUPT;
     const uint32_t total = (uint32_t)PV_LOG_RECORD_BYTES(len);
     if (seq < cur->next_seq) { /* before the start: skip without reading */
@@ -468,7 +459,7 @@ pv_log_status_t pv_log_next(pv_log_t *log, pv_log_cursor_t *cur, void *buf, size
     if (!read_at(log->read_fd, buf, len, (off_t)cur->offset + PV_LOG_HEADER_BYTES) ||
         !read_at(log->read_fd, crc, sizeof crc, (off_t)cur->offset + PV_LOG_HEADER_BYTES + len))
       return PV_LOG_ERR_CORRUPT;
-    if (pv_crc32c(pv_crc32c(0, head, sizeof head), buf, len) != get_u32(crc))
+    if (pv_crc32c(pv_crc32c(0, head, sizeof head), buf, len) != pv_get_le32(crc))
       return PV_LOG_ERR_CORRUPT;
     cur->offset += total;
     cur->next_seq = seq + 1;

@@ -10,14 +10,8 @@
 #include <termios.h>
 #include <unistd.h>
 
-static uint64_t next(uint64_t *s) { /* splitmix64: deterministic per seed */
-  uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
+#include "pitvol/splitmix64.h"
 
-static double uniform(uint64_t *s) { return (double)(next(s) >> 11) * (1.0 / 9007199254740992.0); }
 
 /* Copies what can be read from `from` to `to`, with noise. */
 static void relay(pv_noisy_line_t *l, int from, int to) {
@@ -27,12 +21,12 @@ static void relay(pv_noisy_line_t *l, int from, int to) {
   size_t o = 0;
   for (ssize_t i = 0; i < n; ++i) {
     l->bytes++;
-    if (l->p > 0 && uniform(&l->rng) < l->p) {
+    if (l->p > 0 && pv_splitmix64_unit(&l->rng) < l->p) {
       l->hit++;
-      switch (next(&l->rng) % 3u) {
-        case 0: out[o++] = (uint8_t)(in[i] ^ (1u << (next(&l->rng) % 8u))); break;
+      switch (pv_splitmix64_next(&l->rng) % 3u) {
+        case 0: out[o++] = (uint8_t)(in[i] ^ (1u << (pv_splitmix64_next(&l->rng) % 8u))); break;
         case 1: break; /* dropped */
-        default: out[o++] = (uint8_t)next(&l->rng); out[o++] = in[i]; break;
+        default: out[o++] = (uint8_t)pv_splitmix64_next(&l->rng); out[o++] = in[i]; break;
       }
     } else {
       out[o++] = in[i];

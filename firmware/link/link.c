@@ -9,19 +9,9 @@
 
 #include "pitvol/cobs.h"
 #include "pitvol/crc32c.h"
+#include "pitvol/le_bytes.h"
 
 _Static_assert(PV_LINK_MAX_WIRE_BYTES < 0xffffu, "slot length is 16 bits");
-
-static void put_u32(uint8_t *p, uint32_t v) {
-  p[0] = (uint8_t)v;
-  p[1] = (uint8_t)(v >> 8);
-  p[2] = (uint8_t)(v >> 16);
-  p[3] = (uint8_t)(v >> 24);
-}
-
-static uint32_t get_u32(const uint8_t *p) {
-  return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
 
 const char *pv_link_status_name(pv_link_status_t status) {
   switch (status) {
@@ -58,11 +48,11 @@ size_t pv_link_encode_frame(const pitvol_Message *msg, uint32_t seq, uint8_t *ou
   uint8_t raw[PV_LINK_MAX_RAW_BYTES];
   if (!msg || !out || cap < 2) return 0;
   raw[0] = (uint8_t)PV_LINK_FRAME_VERSION;
-  put_u32(raw + 1, seq);
+  pv_put_le32(raw + 1, seq);
   pb_ostream_t os = pb_ostream_from_buffer(raw + PV_LINK_HEADER_BYTES, PV_LINK_MAX_PAYLOAD_BYTES);
   if (!pb_encode(&os, pitvol_Message_fields, msg)) return 0;
   const size_t body = PV_LINK_HEADER_BYTES + os.bytes_written;
-  put_u32(raw + body, pv_crc32c(0, raw, body));
+  pv_put_le32(raw + body, pv_crc32c(0, raw, body));
   /* A leading zero too: whatever noise preceded this frame ends there. */
   out[0] = 0;
   const size_t n = pv_cobs_encode(raw, body + PV_LINK_CRC_BYTES, out + 1, cap - 2);
@@ -241,7 +231,7 @@ static int decode_frame(pv_link_t *link, pv_link_rx_t *out) {
     return 0;
   }
   const size_t body = n - PV_LINK_CRC_BYTES;
-  if (pv_crc32c(0, raw, body) != get_u32(raw + body)) {
+  if (pv_crc32c(0, raw, body) != pv_get_le32(raw + body)) {
     st->corrupt_crc++;
     st->frames_corrupt++;
     return 0;
@@ -251,7 +241,7 @@ static int decode_frame(pv_link_t *link, pv_link_rx_t *out) {
     st->frames_corrupt++;
     return 0;
   }
-  out->seq = get_u32(raw + 1);
+  out->seq = pv_get_le32(raw + 1);
   pitvol_Message zero = pitvol_Message_init_zero;
   out->msg = zero;
   pb_istream_t is = pb_istream_from_buffer(raw + PV_LINK_HEADER_BYTES, body - PV_LINK_HEADER_BYTES);

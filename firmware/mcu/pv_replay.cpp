@@ -17,7 +17,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mcu_config.h"
 #include "pitvol/pitvol.h"
 #include "ply_points.h"
 
@@ -164,7 +163,7 @@ int main(int argc, char **argv) {
   pv_config_default(&cfg);
   int first = 1;
   if (argc > 1 && strcmp(argv[1], "--mcu-config") == 0) {
-    pv_mcu_config(&cfg);
+    pv_config_mcu(&cfg);
     first = 2;
   }
   // The per-layer methods too: every method's bits must match (no libm in

@@ -3,7 +3,7 @@
 // square roots, Gaussians as sums of uniforms, directions by rejection), so
 // a case is the same numbers on every x86-64.
 #include "sim/envelope.h"
-#include "sim/splitmix.h"
+#include "pitvol/splitmix64.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +18,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 struct Rng {
   uint64_t s;
-  uint64_t next() { return splitmix64(&s); }
+  uint64_t next() { return pv_splitmix64_next(&s); }
   double uniform() { return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0); }
   double uniform(double a, double b) { return a + (b - a) * uniform(); }
   int integer(int lo, int hi) {  // inclusive

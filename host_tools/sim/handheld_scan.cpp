@@ -35,7 +35,7 @@
 // nothing. Triangles in the rim plane (the ground ring) are always seen
 // from above.
 #include "sim/handheld_scan.h"
-#include "sim/splitmix.h"
+#include "pitvol/splitmix64.h"
 
 #include <embree3/rtcore.h>
 
@@ -93,7 +93,7 @@ V3 ray_triangle_point(V3 o, V3 dir, V3 a, V3 b, V3 c) {
 // splitmix64 + Box-Muller, the same draws everywhere.
 struct Rng {
   uint64_t s;
-  uint64_t next() { return splitmix64(&s); }
+  uint64_t next() { return pv_splitmix64_next(&s); }
   double uniform() {  // (0, 1)
     return (static_cast<double>(next() >> 11) + 0.5) * (1.0 / 9007199254740992.0);
   }

@@ -21,7 +21,7 @@
 // float mesh encloses the intended polygonal solid to ~1e-10 relative rather
 // than ~1e-9.
 #include "sim/pit_geometry.h"
-#include "sim/splitmix.h"
+#include "pitvol/splitmix64.h"
 
 #include <algorithm>
 #include <cmath>
@@ -42,7 +42,7 @@ constexpr double kTwoPi = 2.0 * kPi;
 struct Rng {
   uint64_t s;
   explicit Rng(uint64_t seed) : s(seed) {}
-  uint64_t next() { return splitmix64(&s); }
+  uint64_t next() { return pv_splitmix64_next(&s); }
   double uniform() { return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0); }
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
   int integer(int lo, int hi) {  // inclusive

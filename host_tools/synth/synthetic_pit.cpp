@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "pitvol/splitmix64.h"
+
 namespace pv::synth {
 
 namespace {
@@ -43,12 +45,7 @@ PitScan::PitScan(const PitSpec &s) : s_(s), state_(s.seed * 0x9e3779b97f4a7c15ul
 }
 
 double PitScan::uniform() {
-  state_ += 0x9e3779b97f4a7c15ull;
-  uint64_t z = state_;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  z ^= z >> 31;
-  return double(z >> 11) * (1.0 / 9007199254740992.0);
+  return pv_splitmix64_unit(&state_);
 }
 
 double PitScan::gaussian() {

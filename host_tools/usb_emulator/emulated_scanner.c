@@ -36,6 +36,7 @@
 #include <umockdev.h>
 
 #include "pitvol/usb_frame.h"
+#include "pitvol/splitmix64.h"
 #include "pitvol/usb_scanner.h"
 
 #define EMU_BUS 1
@@ -103,14 +104,6 @@ struct pv_emu {
 
 /* ---- helpers ---------------------------------------------------------- */
 
-static uint64_t rng_next(uint64_t *s) { /* splitmix64 */
-  uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-static double rng_unit(uint64_t *s) { return (double)(rng_next(s) >> 11) * (1.0 / 9007199254740992.0); }
 
 static void set_err(char *err, size_t cap, const char *msg) {
   if (err != NULL && cap > 0) snprintf(err, cap, "%s", msg);
@@ -408,7 +401,7 @@ static int serve_bulk(pv_emu_t *e, urb_entry_t *u, int live) {
     const uint64_t budget = pace_budget(e);
     if (budget < n) n = budget;
     if (n == 0) return 0;
-    if (e->opt.short_reads) n = 1 + rng_next(&e->rng) % n;
+    if (e->opt.short_reads) n = 1 + pv_splitmix64_next(&e->rng) % n;
     memcpy(u->buf->data, e->stream + e->pos, (size_t)n);
     e->pos += n;
     e->pace_sent += n;
@@ -658,7 +651,8 @@ static int build_stream(pv_emu_t *e, const uint8_t *src, size_t len, char *err, 
     (void)pv_usb_frame_parse_header(src + at, len - at, &h);
     const size_t flen = PV_USB_FRAME_BYTES(h.point_count);
     const int last = i + 1 == nsrc;
-    const double r_drop = rng_unit(&rng), r_dup = rng_unit(&rng), r_bad = rng_unit(&rng);
+    const double r_drop = pv_splitmix64_unit(&rng), r_dup = pv_splitmix64_unit(&rng),
+                 r_bad = pv_splitmix64_unit(&rng);
     if (!last && r_drop < e->opt.drop_rate) {
       e->st.frames_dropped++;
       e->st.points_dropped += h.point_count;

@@ -181,6 +181,14 @@ typedef struct pv_config {
 
 /* Fills the paper's defaults and the default capacities (docs/method.md). */
 void pv_config_default(pv_config_t *cfg);
+/* The block budget of a microcontroller build: the MCU profile's block fits
+ * in it (firmware/mcu's linker script reserves exactly this much). */
+#define PV_MCU_BLOCK_BYTES (512u * 1024u)
+/* The MCU profile: pv_config_default() with the capacities, grids and layer
+ * height changed so that the block fits PV_MCU_BLOCK_BYTES (docs/memory.md;
+ * its accuracy against the default: docs/targets.md). Every other method
+ * parameter keeps its default. */
+void pv_config_mcu(pv_config_t *cfg);
 /* PV_OK or PV_ERR_INVALID_CONFIG; if field_out is not NULL it receives the
  * name of the first offending field. */
 pv_status_t pv_config_validate(const pv_config_t *cfg, const char **field_out);

@@ -6,19 +6,18 @@
 #include <cstring>
 #include <vector>
 
-#include "mcu_config.h"
 #include "session_support.h"
 #include "pv_cmocka.h"  // last: see pv_cmocka.h
 
 namespace {
 
-void mcu_profile(pv_config_t *cfg) { pv_mcu_config(cfg); }
+void mcu_profile(pv_config_t *cfg) { pv_config_mcu(cfg); }
 
 // The MCU profile fits the linker script's block region and is method
 // surface, the default's method.
 void mcu_profile_fits_its_block(void **) {
   pv_config_t cfg;
-  pv_mcu_config(&cfg);
+  pv_config_mcu(&cfg);
   assert_int_equal(pv_config_validate(&cfg, nullptr), PV_OK);
   assert_int_equal(cfg.method, PV_METHOD_SURFACE);
   size_t bytes = 0;

@@ -209,7 +209,7 @@ void removed_band_is_bridged_within_interval(void **) {
   assert_true(r.unseen_share > 0.05 && r.unseen_share < 0.25);
 }
 
-// The MCU profile's grids (firmware/mcu/mcu_config.h) and about its point
+// The MCU profile's grids (pv_config_mcu()) and about its point
 // budget: 64 points per 2 mm layer is 32 wall points per mm of height, of
 // the 1440 here; its floor store, some 2,500 points.
 pv::surface::Params coarse_params(bool coarse) {
