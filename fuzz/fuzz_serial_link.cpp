@@ -1,4 +1,4 @@
-// The serial link's frame coder and decoder (firmware/link: cobs.c, link.c;
+// The serial link's frame coder and decoder (lib/link: cobs.c, link.c;
 // docs/protocol/serial.md) on arbitrary bytes.
 //
 // Invariants, each on the same input:

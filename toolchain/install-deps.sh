@@ -32,7 +32,7 @@ packages=(
   umockdev libumockdev-dev  # emulated USB scanner for the usb tests
   libpng-dev            # the board display's PNG backend (drivers/display)
   console-setup-linux   # Terminus console fonts embedded in pitvol-board
-  nanopb libnanopb-dev      # serial link messages (firmware/link/pitvol_link.proto)
+  nanopb libnanopb-dev      # serial link messages (lib/link/pitvol_link.proto)
   nlohmann-json3-dev    # the host tools' JSON output and reading (header-only)
   libcli11-dev          # the host tools' command lines (header-only)
   clang-14 libfuzzer-14-dev libclang-rt-14-dev  # fuzz/: libFuzzer + ASan/UBSan runtimes

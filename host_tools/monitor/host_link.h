@@ -1,5 +1,5 @@
 // pitvol-monitor's end of the serial link: the board's own link layer
-// (firmware/link) and serial driver (drivers/serial), driven by poll().
+// (lib/link) and serial driver (drivers/serial), driven by poll().
 #ifndef PV_MONITOR_HOST_LINK_H
 #define PV_MONITOR_HOST_LINK_H
 

@@ -118,7 +118,7 @@ def fail(code, msg):
 
 
 # Plausible ranges of the numbers a user types: the numbers of
-# firmware/density/include/pitvol/density.h (tests/report checks they agree),
+# lib/density/include/pitvol/density.h (tests/report checks they agree),
 # so the report refuses what the board refuses.
 RANGES = {
     "mass-g": (50.0, 100000.0, "g", "wet mass of the excavated soil"),
@@ -215,7 +215,7 @@ def png_base64(fig):
 def density(result, mass_g, moisture, max_dry=None):
     """Wet and dry density, kg/m3, and the relative compaction, %, with the
     range of the volume interval (docs/density.md): low at V + dV, high at
-    V - dV (None: unbounded). As firmware/density/density.c computes them."""
+    V - dV (None: unbounded). As lib/density/density.c computes them."""
     v, dv = result.get("volume_cm3"), result.get("interval_cm3") or 0.0
     if mass_g is None or not v:
         return None

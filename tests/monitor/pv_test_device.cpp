@@ -1,8 +1,8 @@
 // pv-test-device: a stand-in for the board application on the host, for
 // testing pitvol-monitor end to end before the board app exists. It is the
-// real serial stack -- link layer (firmware/link), serial driver
+// real serial stack -- link layer (lib/link), serial driver
 // (drivers/serial, on the master side of a pseudo-terminal), result log
-// (drivers/storage), density (firmware/density) and, with --scan, the core
+// (drivers/storage), density (lib/density) and, with --scan, the core
 // measuring a scan file -- with the board's state machine replaced by the
 // few lines below. The board application calls the same APIs.
 //

@@ -293,11 +293,11 @@ def cmd_inputs(bin_dir, page_work, work):
         out = os.path.join(work, f"v{required}.html")
         run(base + ["--required-compaction-percent", required, "--out", out])
         check(parse_page(out).values["verdict"] == want, f"required {required}: not {want}")
-    # The report's ranges are the board's (firmware/density/include/pitvol/density.h).
+    # The report's ranges are the board's (lib/density/include/pitvol/density.h).
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                     "host_tools", "report"))
     import pitvol_report  # noqa: E402
-    header = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "firmware",
+    header = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "lib",
                           "density", "include", "pitvol", "density.h")
     with open(header) as f:
         defs = dict(re.findall(r"#define (PV_DENSITY_\w+) ([0-9.]+)", f.read()))
