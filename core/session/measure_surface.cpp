@@ -39,6 +39,17 @@ constexpr double kMaxGhostContrast = 0.2;
 // 0.045 up.
 constexpr double kMaxFloorGhostShare = 0.03;
 constexpr uint64_t kMinFloorPoints = 500;
+// The share of the floor's points from 8 to 40 mm above it (Model::
+// floor_far_points): a second pass that slipped along the axis doubles the
+// floor there (sweep seed 1: 0.15 to 0.33 where the slipped pass saw the
+// floor, with the volume 10-14 % high and PV_OK), while multipath and
+// crumbs put at most 0.05 there in single scans (300 scans and the corpus).
+constexpr double kMaxFloorSlipShare = 0.1;
+// ... and lie at one height: at least this share within 3 mm (slipped
+// passes 0.26-0.43; single scans 0.11-0.15, among them an undercut wall
+// whose foot above the floor's edge put 0.27 of the floor's points in the
+// window, spread over its 32 mm).
+constexpr double kMinFloorSlipPeak = 0.2;
 // Both were measured on the default grids (2 deg x 2 mm wall bins, 2 mm
 // floor cells). Coarser grids put a single scan's wall and floor behind the
 // band: the MCU profile's 10 deg bins half of an elliptical wall's bins,
@@ -203,6 +214,10 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
     const double share = double(m.floor_ghost_points) / double(floor_all);
     if (share > kMaxFloorGhostShare) {
       return refuse(PV_PIT_CHECK_DOUBLED_FLOOR, share, kMaxFloorGhostShare);
+    }
+    const double far = double(m.floor_far_points) / double(m.floor_points + m.floor_far_points);
+    if (far > kMaxFloorSlipShare && m.floor_far_peak > kMinFloorSlipPeak) {
+      return refuse(PV_PIT_CHECK_DOUBLED_FLOOR, far, kMaxFloorSlipShare);
     }
   }
   return PV_PIT_CHECK_NONE;

@@ -112,8 +112,8 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
              "twice, registered apart (the scanner lost its tracking during "
              "the scan); scan the pit again in one steady pass";
     case PV_PIT_CHECK_DOUBLED_FLOOR:
-      return "the floor appears twice, a few mm apart: the scan holds the "
-             "pit twice, registered apart (the scanner lost its tracking "
+      return "the floor appears twice, a few to 40 mm apart: the scan holds "
+             "the pit twice, registered apart (the scanner lost its tracking "
              "during the scan), or loose soil covers the floor; clear the "
              "floor and scan the pit again in one steady pass";
     case PV_PIT_CHECK_TOO_SMALL:

@@ -216,6 +216,10 @@ inline uint32_t theta_of(const ThetaCache &c, size_t i, double dx, double dy,
   return bins.bin(dx, dy);
 }
 
+// Bins of the far points' height histogram (GridCtx::far_hist): 1 mm from
+// the ghost window's top to Params::slip_mm's, the last taking the rest.
+constexpr uint32_t kFarHistBins = 40;
+
 struct GridCtx {
   Geo g;
   Workspace *ws;
@@ -225,6 +229,10 @@ struct GridCtx {
   bool second;      // pass 2: accumulate the surface points
   ThetaCache cache;
   double floor_top = HUGE_VAL;  // pass 3: no floor cell reaches above this
+  double slip = 0;   // pass 2: Params::slip_mm (floor cells only)
+  // pass 2: the far points' heights above their cell's floor, 1 mm bins
+  // from the ghost window's top (Model::floor_far_peak)
+  uint32_t far_hist[kFarHistBins] = {};
   double ghost = 0;  // pass 2: Params::ghost_mm, the window behind a bin's band, above a cell's
 };
 
@@ -274,7 +282,7 @@ void grid_batch(void *c, const Point *pts, size_t count) {
   const Geo g = x->g;
   const Axis axis = x->m->axis;
   const double rim = x->m->rim_mm, wall_top = x->wall_top, band = x->band;
-  const double ghost = x->ghost, ghost_top = band + ghost;
+  const double ghost = x->ghost, ghost_top = band + ghost, slip_top = band + x->slip;
   const double C = g.C, Z = g.Z;
   WallBin *const wall = x->ws->wall;
   FloorCell *const floor = x->ws->floor;
@@ -300,6 +308,12 @@ void grid_batch(void *c, const Point *pts, size_t count) {
           f.n += near ? 1 : 0;
           f.sz += near ? q.z : 0.0;
           f.n_ghost += !near && z <= near_min(f) + ghost_top ? 1 : 0;
+          const bool far = z > near_min(f) + ghost_top && z <= near_min(f) + slip_top;
+          f.n_far = uint16_t(f.n_far + (far && f.n_far < UINT16_MAX ? 1 : 0));
+          if (far) {
+            const auto hb = uint32_t(double(z) - double(near_min(f)) - ghost_top);
+            ++x->far_hist[hb < kFarHistBins ? hb : kFarHistBins - 1];
+          }
         }
       }
     }
@@ -700,6 +714,7 @@ void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool co
     if (f.state != kFloor) return;
     m->floor_points += f.n;
     m->floor_ghost_points += f.n_ghost;
+    m->floor_far_points += f.n_far;
   });
 }
 
@@ -994,10 +1009,11 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
     ws.wall[i] = WallBin{kNone, kNone, float(p.band_mm), 0, 0, 0, kEmpty, 0, 0, {0.0f}, 0, 0, 0, 0, 0, 0, 0, 0};
   }
   const size_t cells = size_t(g.C) * g.C;
-  for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty, 0};
+  for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty, 0, 0};
 
   GridCtx gc{g, &ws, m, p.band_mm, rim_mm - p.rim_guard_mm, false, theta_cache(ws)};
   gc.ghost = p.ghost_mm;
+  gc.slip = p.slip_mm;
   if (p.coarse_bins) {
     auto *const sub = reinterpret_cast<uint32_t *>(ws.wall_hi);  // written as bits only
     std::fill(sub, sub + bins, 0u);  // the sub-cell bits: none
@@ -1011,6 +1027,16 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   gc.second = true;
   gc.cache.start();
   src.visit(src.ctx, p.coarse_bins ? grid_batch<true, true> : grid_batch<true, false>, &gc);
+  {
+    // A slipped copy's floor lies at one height; an overhanging wall's
+    // foot and multipath spread over the window.
+    uint64_t all = 0, peak = 0;
+    for (uint32_t b = 0; b < kFarHistBins; ++b) all += gc.far_hist[b];
+    for (uint32_t b = 0; b + 2 < kFarHistBins; ++b) {
+      peak = std::max<uint64_t>(peak, uint64_t(gc.far_hist[b]) + gc.far_hist[b + 1] + gc.far_hist[b + 2]);
+    }
+    m->floor_far_peak = all > 0 ? double(peak) / double(all) : 0.0;
+  }
 
   CellBox box;  // the cells that are not empty, from here on
   for (uint32_t row = 0; row < g.C; ++row) {

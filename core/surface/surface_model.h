@@ -58,6 +58,7 @@ struct Params {
   double floor_max_rise_mm = 1.5;  // a larger step from cell to cell is not floor
   uint32_t short_gap_bins = 4;     // a bridge this short is interpolation, not unseen wall
   double wide_gap_deg = 30.0;      // unknown wall this wide at one height: a side unseen
+  double slip_mm = 40.0;           // floor only: a second floor up to this far above
   double ghost_mm = 8.0;           // window behind the surface band where a doubled
                                    // scan's second surface lies (Model::ghost_contrast)
   // Coarse wall bins with a few points each (the MCU profile, docs/targets.md):
@@ -128,6 +129,7 @@ struct FloorCell {
   float value;            // height of the floor in this cell
   double sz;
   uint8_t state;
+  uint16_t n_far;         // points from ghost_mm to slip_mm above the band
   uint32_t n_ghost;       // points up to ghost_mm above the band
 };
 
@@ -195,6 +197,13 @@ struct Model {
   // (floor_points) and in the ghost_mm above it (floor_ghost_points).
   double ghost_contrast;
   uint64_t floor_points, floor_ghost_points;
+  // Further above it, up to Params::slip_mm: a second pass that slipped
+  // along the axis doubles the floor 10-40 mm up (floor_far_points).
+  uint64_t floor_far_points;
+  // The share of those far points (over every floor map cell) within the
+  // densest 3 mm of height: near 1 for a second floor, low for a wall
+  // overhanging the floor's edge.
+  double floor_far_peak;
 };
 
 // Points that make a wall bin dense enough for its ghost share, and dense

@@ -126,7 +126,7 @@ std::string check_figures(const pv_result_t &r) {
       break;
     case PV_PIT_CHECK_DOUBLED_FLOOR:
       std::snprintf(b, sizeof b,
-                    "%.1f %% of the floor's points lie a few mm above it (one scan: at most %.1f %%)",
+                    "%.1f %% of the floor's points lie on a second floor above it (one scan: at most %.1f %%)",
                     100 * r.check_value, 100 * r.check_limit);
       break;
     default: std::snprintf(b, sizeof b, "no figure"); break;

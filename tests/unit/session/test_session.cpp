@@ -52,7 +52,11 @@ void measures_pits_of_other_shapes_and_poses(void **) {
     TestSession t(c.flip ? any_frame : nullptr);
     t.push_all(scan_points(spec, 300000), 10000);
     pv_result_t r;
-    assert_int_equal(pv_session_finish(t.s, &r), PV_OK);
+    const pv_status_t st = pv_session_finish(t.s, &r);
+    if (st != PV_OK) {
+      fail_msg("case rb %.0f rt %.0f: %s %s (%g against %g)", c.rb, c.rt, pv_status_name(st),
+               pv_pit_check_name(r.failed_check), r.check_value, r.check_limit);
+    }
     const double e = rel_err(r.volume_cm3, pv::synth::exact_volume_cm3(spec));
     if (std::fabs(e) >= kVolumeTol) print_error("case rb %.0f rt %.0f: error %.4f %%\n", c.rb, c.rt, 100 * e);
     assert_true(std::fabs(e) < kVolumeTol);
