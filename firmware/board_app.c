@@ -40,10 +40,25 @@ static void on_points(void *user, const pv_usb_frame_header_t *h, const pv_point
 }
 
 int pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev) {
-  if (app->q_len == PV_BOARD_EVENT_QUEUE) return -1;
+  if (app->q_len == PV_BOARD_EVENT_QUEUE) {
+    /* Counted and shown: a lost SCAN_ENDED or MEASURED would otherwise
+     * leave the screen waiting with nothing said. */
+    app->model.dropped_events++;
+    app->dirty = 1;
+    fprintf(stderr, "pitvol-board: event queue full: %s dropped (%u so far)\n",
+            pv_board_event_name(ev), (unsigned)app->model.dropped_events);
+    return -1;
+  }
   app->queue[(app->q_head + app->q_len) % PV_BOARD_EVENT_QUEUE] = ev;
   app->q_len++;
   return 0;
+}
+
+/* The loop's own events: a full queue is counted, logged and shown by
+ * pv_board_app_post; there is no one else to tell. */
+static void post(pv_board_app_t *app, pv_board_event_t ev) {
+  const int full = pv_board_app_post(app, ev);
+  (void)full;
 }
 
 int pv_board_app_watch(pv_board_app_t *app, int fd, short events, pv_board_watch_fn fn, void *user) {
@@ -91,10 +106,10 @@ static void present(pv_board_app_t *app) {
 static void log_result(const pv_board_app_t *app) {
   const pv_result_t *r = &app->model.result;
   printf("pitvol-board: result status=%s volume_cm3=%.17g interval_cm3=%.17g depth_mm=%.17g "
-         "points_in=%llu warnings=0x%x board_warnings=0x%x\n",
+         "points_in=%llu warnings=0x%x board_warnings=0x%x dropped_events=%u\n",
          pv_status_name(app->model.result_status), app->model.result_status == PV_OK ? r->volume_cm3 : 0.0,
          r->interval_cm3, r->depth_mm, (unsigned long long)r->points_in, r->warnings,
-         app->model.board_warnings);
+         app->model.board_warnings, (unsigned)app->model.dropped_events);
   if (app->model.result_status != PV_OK) {
     printf("pitvol-board: refused: %s\n", pv_status_message(app->model.result_status));
   }
@@ -107,14 +122,22 @@ static void usb_call_failed(pv_board_app_t *app, const char *what, pv_usb_status
 
 static void perform(pv_board_app_t *app, unsigned act) {
   if (act & PV_ACT_BEGIN_SCAN) {
-    pv_session_reset(app->session);
+    const pv_status_t reset = pv_session_reset(app->session);
     app->scan_mark_ms = now_ms();
-    const int old = pv_alloc_zone_enter(PV_ZONE_USB);
-    const pv_usb_status_t st = pv_usb_scanner_start(app->usb);
-    pv_alloc_zone_enter(old);
-    if (st != PV_USB_OK) {
-      usb_call_failed(app, "did not start", st);
-      pv_board_app_post(app, PV_EV_SCAN_FAILED);
+    if (reset != PV_OK) {
+      /* The scanner is not started: its points would go into a session
+       * that still holds the last scan. */
+      snprintf(app->model.message, sizeof app->model.message, "core: %s", pv_status_name(reset));
+      fprintf(stderr, "pitvol-board: session reset: %s\n", pv_status_message(reset));
+      post(app, PV_EV_SCAN_FAILED);
+    } else {
+      const int old = pv_alloc_zone_enter(PV_ZONE_USB);
+      const pv_usb_status_t st = pv_usb_scanner_start(app->usb);
+      pv_alloc_zone_enter(old);
+      if (st != PV_USB_OK) {
+        usb_call_failed(app, "did not start", st);
+        post(app, PV_EV_SCAN_FAILED);
+      }
     }
   }
   if (act & PV_ACT_STOP_SCAN) {
@@ -175,11 +198,11 @@ static void poll_usb(pv_board_app_t *app) {
   app->usb_state = now;
   if (now == was) return;
   if (now == PV_USB_STATE_UNPLUGGED) {
-    pv_board_app_post(app, PV_EV_SCANNER_GONE);
+    post(app, PV_EV_SCANNER_GONE);
   } else if (was == PV_USB_STATE_UNPLUGGED) {
-    pv_board_app_post(app, PV_EV_SCANNER_ARRIVED);
+    post(app, PV_EV_SCANNER_ARRIVED);
   }
-  if (now == PV_USB_STATE_ENDED) pv_board_app_post(app, PV_EV_SCAN_ENDED);
+  if (now == PV_USB_STATE_ENDED) post(app, PV_EV_SCAN_ENDED);
 }
 
 /* Density of a measured result from the mass (and moisture) set over the
@@ -228,7 +251,7 @@ static void measure(pv_board_app_t *app) {
   pv_alloc_zone_enter(old);
   density(app);
   log_result(app);
-  pv_board_app_post(app, PV_EV_MEASURED);
+  post(app, PV_EV_MEASURED);
 }
 
 int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *err, size_t errcap) {
@@ -302,8 +325,7 @@ int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *e
     return -1;
   }
   app->usb_state = pv_usb_scanner_poll(app->usb, 0);
-  pv_board_app_post(app, app->usb_state == PV_USB_STATE_UNPLUGGED ? PV_EV_SCANNER_GONE
-                                                                  : PV_EV_SCANNER_ARRIVED);
+  post(app, app->usb_state == PV_USB_STATE_UNPLUGGED ? PV_EV_SCANNER_GONE : PV_EV_SCANNER_ARRIVED);
   return 0;
 }
 
@@ -357,7 +379,7 @@ int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap) {
     if (r > 0 && (app->fds[i_timer].revents & POLLIN)) {
       uint64_t expirations = 0;
       if (read(app->timer_fd, &expirations, sizeof expirations) > 0) {
-        pv_board_app_post(app, PV_EV_TICK); /* late ticks fold into one */
+        post(app, PV_EV_TICK); /* late ticks fold into one */
       }
     }
     if (r > 0 && (app->fds[i_input].revents & POLLIN)) {
@@ -369,7 +391,7 @@ int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap) {
         static const pv_board_event_t kKeyEvent[] = {PV_EV_START_STOP, PV_EV_START_STOP,
                                                      PV_EV_ENTER, PV_EV_BACK};
         printf("pitvol-board: button %s\n", pv_key_name(keys[i]));
-        pv_board_app_post(app, kKeyEvent[keys[i]]);
+        post(app, kKeyEvent[keys[i]]);
       }
     }
     for (size_t w = 0; r > 0 && w < app->nwatches; ++w) {

@@ -92,7 +92,9 @@ int pv_board_app_watch(pv_board_app_t *app, int fd, short events, pv_board_watch
 /* Changes what a watched fd waits for (e.g. POLLIN | POLLOUT while the
  * link has bytes to send). 0, or -1 if fd is not watched. */
 int pv_board_app_watch_events(pv_board_app_t *app, int fd, short events);
-/* Queues an event (from a watch callback). 0, or -1 if the queue is full. */
+/* Queues an event (from a watch callback). 0, or -1 if the queue is full:
+ * the event is then counted in model.dropped_events (the result screens
+ * show it) and logged; the caller says so to whoever sent it. */
 int pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev);
 void pv_board_app_set_observer(pv_board_app_t *app, pv_board_observer_fn fn, void *user);
 

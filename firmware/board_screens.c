@@ -207,7 +207,7 @@ static void draw_result(pv_canvas_t *c, const pv_board_model_t *m, const pv_boar
   /* Amber title only for flags that change how far to trust the number. */
   const int warn = (pv_warnings_attention(r->warnings, r->unseen_share) & (PV_WARN_BRIDGED | PV_WARN_LAYERS_REJECTED | PV_WARN_SPARSE_LAYERS |
                                    PV_WARN_LARGE_TILT)) != 0 ||
-                   m->board_warnings != 0;
+                   m->board_warnings != 0 || m->dropped_events != 0;
   title(c, f, "RESULT", warn ? PV_COLOR_AMBER : PV_COLOR_GREEN, PV_COLOR_BLACK, usb_word(m));
   char num[32];
   const char *unit = "";
@@ -247,6 +247,9 @@ static void draw_result(pv_canvas_t *c, const pv_board_model_t *m, const pv_boar
   if ((m->board_warnings & PV_BOARD_WARN_ENDED_UNPLUGGED) && shown++ < room) {
     y = line(c, &f->body, y, PV_COLOR_RED, "! ended while unplugged");
   }
+  if (m->dropped_events != 0 && shown++ < room) {
+    y = line(c, &f->body, y, PV_COLOR_RED, "! %u board events lost", (unsigned)m->dropped_events);
+  }
   static const struct { uint32_t bit; pv_color_t ink; } order[] = {
       {PV_WARN_BRIDGED, PV_COLOR_RED},       {PV_WARN_LAYERS_REJECTED, PV_COLOR_AMBER},
       {PV_WARN_SPARSE_LAYERS, PV_COLOR_AMBER}, {PV_WARN_LARGE_TILT, PV_COLOR_AMBER},
@@ -281,6 +284,9 @@ static void draw_refused(pv_canvas_t *c, const pv_board_model_t *m, const pv_boa
   y = line(c, &f->body, y + 4, PV_COLOR_BLACK, "%s", a.todo);
   if (m->board_warnings & PV_BOARD_WARN_ENDED_UNPLUGGED) {
     y = line(c, &f->body, y + 4, PV_COLOR_BLACK, "scan ended while unplugged");
+  }
+  if (m->dropped_events != 0) {
+    y = line(c, &f->body, y + 4, PV_COLOR_RED, "%u board events lost", (unsigned)m->dropped_events);
   }
   char pts[32];
   grouped(m->result.points_in, pts, sizeof pts);

@@ -75,6 +75,8 @@ typedef struct pv_board_model {
   int have_result;
   pv_result_t result;
   uint32_t board_warnings;
+  uint32_t dropped_events; /* events lost to a full queue since start: the
+                              result screens show them */
   char message[128];     /* why a scan could not start, etc. */
   /* Density (issue 10): set over the serial link (SetMass, SetMoisture).
    * The mass belongs to one pit: a measured result uses it and clears it;

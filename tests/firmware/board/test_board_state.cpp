@@ -10,6 +10,7 @@
 
 extern "C" {
 #include "board_config.h"
+#include "board_app.h"
 #include "board_clock.h"
 #include "board_screens.h"
 #include "board_state.h"
@@ -289,6 +290,32 @@ bool has(const std::string &text, const char *what) {
   return false;
 }
 
+// A full event queue refuses the event, counts it, and the result and
+// refusal screens say so (nothing is dropped unseen).
+void full_queue_counts_and_shows_lost_events(void **) {
+  static pv_board_app_t app;  // the queue only: no devices are opened
+  std::memset(&app, 0, sizeof app);
+  pv_board_init(&app.model);
+  for (unsigned i = 0; i < PV_BOARD_EVENT_QUEUE; ++i)
+    assert_int_equal(pv_board_app_post(&app, PV_EV_TICK), 0);
+  assert_int_equal(app.model.dropped_events, 0);
+  assert_int_equal(pv_board_app_post(&app, PV_EV_SCAN_ENDED), -1);
+  assert_int_equal(pv_board_app_post(&app, PV_EV_MEASURED), -1);
+  assert_int_equal(app.model.dropped_events, 2);
+  assert_int_equal(app.q_len, PV_BOARD_EVENT_QUEUE);
+
+  pv_board_model_t m = booted(true);
+  m.state = PV_BOARD_RESULT;
+  m.result_status = PV_OK;
+  m.result.volume_cm3 = 1000;
+  assert_true(screen_text(m).find("events lost") == std::string::npos);
+  m.dropped_events = app.model.dropped_events;
+  assert_true(has(screen_text(m), "|! 2 board events lost\n"));
+  m.state = PV_BOARD_REFUSED;
+  m.result_status = PV_ERR_WALL_GAP;
+  assert_true(has(screen_text(m), "|2 board events lost\n"));
+}
+
 void screens_say_what_matters(void **) {
   pv_board_model_t m = booted(true);
   m.state = PV_BOARD_RESULT;
@@ -514,6 +541,7 @@ int main() {
       cmocka_unit_test(config_ranges_are_the_cores),
       cmocka_unit_test(result_time_is_zero_for_an_unset_clock),
       cmocka_unit_test(screens_say_what_matters),
+      cmocka_unit_test(full_queue_counts_and_shows_lost_events),
       cmocka_unit_test(result_screen_shows_density),
       cmocka_unit_test(link_config_keys),
   };
