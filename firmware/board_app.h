@@ -81,21 +81,21 @@ struct pv_board_app {
 
 /* Sets up everything from the configuration. 0, or -1 with a sentence in
  * err (what failed, what to do). */
-int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *err, size_t errcap);
+PV_NODISCARD int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *err, size_t errcap);
 /* Runs until SIGTERM/SIGINT or pv_board_app_quit. 0, or -1 with err. */
-int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap);
+PV_NODISCARD int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap);
 void pv_board_app_quit(pv_board_app_t *app);
 void pv_board_app_close(pv_board_app_t *app);
 
 /* Extra descriptors (the serial link). 0, or -1 if all slots are taken. */
-int pv_board_app_watch(pv_board_app_t *app, int fd, short events, pv_board_watch_fn fn, void *user);
+PV_NODISCARD int pv_board_app_watch(pv_board_app_t *app, int fd, short events, pv_board_watch_fn fn, void *user);
 /* Changes what a watched fd waits for (e.g. POLLIN | POLLOUT while the
  * link has bytes to send). 0, or -1 if fd is not watched. */
-int pv_board_app_watch_events(pv_board_app_t *app, int fd, short events);
+PV_NODISCARD int pv_board_app_watch_events(pv_board_app_t *app, int fd, short events);
 /* Queues an event (from a watch callback). 0, or -1 if the queue is full:
  * the event is then counted in model.dropped_events (the result screens
  * show it) and logged; the caller says so to whoever sent it. */
-int pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev);
+PV_NODISCARD int pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev);
 void pv_board_app_set_observer(pv_board_app_t *app, pv_board_observer_fn fn, void *user);
 
 #ifdef __cplusplus

@@ -209,8 +209,10 @@ static void service(pv_board_link_t *bl) {
     if (pv_link_tx_pending(&bl->link)) break; /* the port is full */
     if (bl->out_len == 0 && !bl->fetch.on) break;
   }
-  pv_board_app_watch_events(bl->app, pv_serial_fd(&bl->port),
-                            (short)(POLLIN | (pv_link_tx_pending(&bl->link) ? POLLOUT : 0)));
+  if (pv_board_app_watch_events(bl->app, pv_serial_fd(&bl->port),
+                                (short)(POLLIN | (pv_link_tx_pending(&bl->link) ? POLLOUT : 0))) != 0) {
+    fprintf(stderr, "pitvol-board: link: the port is not watched; nothing will be sent\n");
+  }
 }
 
 /* Mass and moisture against their plausible ranges (pitvol/user_input.h,

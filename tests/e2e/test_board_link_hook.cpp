@@ -39,7 +39,7 @@ void on_link(pv_board_app_t *app, int fd, short revents, void *) {
   char cmd[16];
   const ssize_t n = read(fd, cmd, sizeof cmd);
   for (ssize_t i = 0; i < n; ++i) {
-    if (cmd[i] == 's') pv_board_app_post(app, PV_EV_START_STOP);
+    if (cmd[i] == 's') assert_int_equal(pv_board_app_post(app, PV_EV_START_STOP), 0);
   }
 }
 

@@ -31,6 +31,15 @@
 extern "C" {
 #endif
 
+/* For functions that can fail: a caller that drops the status does not
+ * compile (pv_strict's -Werror=unused-result). Used by firmware/board_app.h
+ * so far. */
+#if defined(__GNUC__) || defined(__clang__)
+#define PV_NODISCARD __attribute__((warn_unused_result))
+#else
+#define PV_NODISCARD
+#endif
+
 #define PV_VERSION_STRING "0.1.0"
 #define PV_BLOCK_ALIGN 64u
 
