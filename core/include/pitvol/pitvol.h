@@ -188,7 +188,8 @@ typedef struct pv_config {
                                      cannot resolve (docs/targets.md). 0 */
 } pv_config_t;
 
-/* Fills the paper's defaults and the default capacities (docs/method.md). */
+/* Fills the default configuration: method surface, the paper's values where
+   it gives them, and the default capacities (docs/method.md). */
 void pv_config_default(pv_config_t *cfg);
 /* The block budget of a microcontroller build: the MCU profile's block fits
  * in it (firmware/mcu's linker script reserves exactly this much). */
