@@ -41,11 +41,14 @@ struct Grid {
 struct LayerMap {
   double a = 0, b = 0, c = 0, d = 0;  // q = a x + b y + c z + d
   double layers = 0;
+  double index_of(const P3 &p) const { return a * p.x_mm + b * p.y_mm + c * p.z_mm + d; }
   int64_t layer_of(const P3 &p) const {
-    const double q = a * p.x_mm + b * p.y_mm + c * p.z_mm + d;
+    const double q = index_of(p);
     if (!(q >= 0.0) || q >= layers) return -1;
     return int64_t(q);
   }
+  // Outside the grid above its top (layer_of() is -1 for it).
+  bool above(const P3 &p) const { return index_of(p) >= layers; }
 };
 
 // level_row, level_t_z: z_levelled = level_row . p + level_t_z.

@@ -27,7 +27,6 @@ void SectorTops::clear(double centre_x, double centre_y) {
   for (uint32_t s = 0; s < kRimSectors; ++s) {
     for (int k = 0; k < kRimTops; ++k) z[s][k] = x[s][k] = y[s][k] = kNone;
     ceiling[s] = 1.0e30f;
-    open[s] = true;
   }
 }
 
@@ -36,7 +35,7 @@ void SectorTops::offer(double px, double py, double pz) {
   auto s = uint32_t(a * (kRimSectors / (2 * kPi)));
   if (s >= kRimSectors) s = kRimSectors - 1;
   const auto v = float(pz);
-  if (!open[s] || !(v <= ceiling[s])) return;
+  if (!(v <= ceiling[s])) return;
   int k = kRimTops;
   while (k > 0 && v > z[s][k - 1]) --k;
   if (k == kRimTops) return;
@@ -66,9 +65,10 @@ int sector_top(const SectorTops &t, uint32_t s) {
 bool SectorTops::dig() {
   bool dug = false;
   for (uint32_t s = 0; s < kRimSectors; ++s) {
-    open[s] = false;
-    if (z[s][kRimTops - 1] <= kNone || sector_top(*this, s) >= 0) continue;
-    open[s] = true;
+    if (z[s][kRimTops - 1] <= kNone || sector_top(*this, s) >= 0) {
+      ceiling[s] = kNone;  // kept as it is: nothing more is offered to it
+      continue;
+    }
     // The lowest kept point stays offered: if it is the first of a dense
     // top, its neighbours below it come with it.
     ceiling[s] = z[s][kRimTops - 1];

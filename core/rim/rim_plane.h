@@ -28,7 +28,7 @@ struct SectorTops {
   float z[kRimSectors][kRimTops];    // highest first
   float x[kRimSectors][kRimTops], y[kRimSectors][kRimTops];
   float ceiling[kRimSectors];        // points above it are not offered
-  bool open[kRimSectors];            // offer() fills it (dig() closes the rest)
+                                     // (kNone: a sector dig() left closed)
   void clear(double centre_x, double centre_y);
   void offer(double px, double py, double pz);
   // Full sectors without a top: ceiling lowered, emptied. Returns whether

@@ -239,8 +239,8 @@ surface::Status build_surface_model(pv_session *s, const levelling::Transform &t
 
 namespace {
 
-// Pits wider than the grids: the grids' cells, integration rings and axis
-// slabs scaled by up to kMaxGridScale (320 mm -> 880 mm of radius, the
+// Pits wider than the grids: the floor map's cells and the integration's
+// rings scaled by up to kMaxGridScale (320 mm -> 880 mm of radius, the
 // widest test pits: ASTM D5030's 1-1.5 m rockfill pits), enough for the
 // widest wall radius the first model saw plus kWidthMarginShare (the axis
 // and the floor's edge move with the finer model), in steps of 1/8.
@@ -270,9 +270,8 @@ struct CheckedModel {
   surface::Volume v{};
 };
 
-// Builds and integrates the model (every kEstimateStride-th point while
-// estimating) and holds it to the plausibility checks: PV_OK, or the status
-// to refuse with (out's check fields set for PV_ERR_NOT_A_PIT).
+// build_and_check() (below) on grids scaled by `scale`; the widest wall
+// radius it saw in c->occ.
 pv_status_t build_and_check_at(pv_session *s, const levelling::Transform &t, double rim_mm,
                                double scale, pv_result_t *out, CheckedModel *c) {
   c->p = scaled_params(surface_params(s->cfg), scale);

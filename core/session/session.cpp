@@ -31,8 +31,7 @@ void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
   const int64_t j = s->provisional_map.layer_of(p);
   if (j < 0) {
     ++s->points_out_of_range;
-    const gridding::LayerMap &m = s->provisional_map;
-    if (m.a * p.x_mm + m.b * p.y_mm + m.c * p.z_mm + m.d >= m.layers) ++s->points_above_range;
+    if (s->provisional_map.above(p)) ++s->points_above_range;
     return;
   }
   if (uint32_t(j) < s->floor_layers) {
