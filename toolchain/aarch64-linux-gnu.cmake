@@ -24,7 +24,7 @@ execute_process(COMMAND ${CMAKE_CURRENT_LIST_DIR}/arm64-sysroot.sh ${pv_sysroot_
 if(NOT pv_sysroot_rc EQUAL 0)
   message(FATAL_ERROR "toolchain/arm64-sysroot.sh failed: no arm64 sysroot in ${pv_sysroot_dir}")
 endif()
-set(PITVOL_SYSROOT ${pv_sysroot_dir}/root)
+set(PITVOL_SYSROOT ${pv_sysroot_dir}/tree)
 
 # The compiler's own C library (/usr/aarch64-linux-gnu) and the sysroot's
 # packages; never the host's /usr/lib/aarch64-linux-gnu, whatever multiarch

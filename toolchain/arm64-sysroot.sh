@@ -8,15 +8,15 @@
 #   toolchain/arm64-sysroot.sh [DIR]     (default: build-sysroot/arm64)
 #
 # DIR/debs holds the downloaded .deb files (a cache: kept when the package
-# list changes, only the missing ones are fetched), DIR/root the unpacked
+# list changes, only the missing ones are fetched), DIR/tree the unpacked
 # sysroot. The root is rebuilt only when the package list or this script
-# changes (DIR/root/.pitvol-sysroot holds their hash), so a second run
+# changes (DIR/tree/.pitvol-sysroot holds their hash), so a second run
 # costs a hash and exits; toolchain/aarch64-linux-gnu.cmake runs it on
 # every configure. Needs the arm64 package lists
 # (`toolchain/install-deps.sh --cross` adds the architecture); no root.
 #
 # The root has Debian's merged-/usr layout (lib -> usr/lib), so
-# `qemu-aarch64-static -L DIR/root` finds the dynamic loader at
+# `qemu-aarch64-static -L DIR/tree` finds the dynamic loader at
 # /lib/ld-linux-aarch64.so.1 as on the board.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -30,7 +30,7 @@ dir=$(cd "$dir" && pwd)
 # would add the host's /usr/include, which a cross compile must not search.
 arch_all=(nlohmann-json3-dev libcli11-dev)
 packages=(
-  # The C and C++ runtime the programs run with under qemu (-L root).
+  # The C and C++ runtime the programs run with under qemu (-L tree).
   libc6 libgcc-s1 libstdc++6 gcc-12-base
   libusb-1.0-0-dev libusb-1.0-0 libudev1     # the scanner's libusb driver
   libpng-dev libpng16-16 zlib1g-dev zlib1g   # the display's PNG backend
@@ -46,12 +46,12 @@ packages=(
 )
 
 stamp_text=$(printf '%s\n' "${packages[@]}" | cat - "$0" | sha256sum | cut -d' ' -f1)
-[ "$(cat "$dir/root/.pitvol-sysroot" 2>/dev/null)" = "$stamp_text" ] && exit 0
+[ "$(cat "$dir/tree/.pitvol-sysroot" 2>/dev/null)" = "$stamp_text" ] && exit 0
 
 exec 9>"$dir/.lock"
 flock 9
 # Another run may have built it while this one waited for the lock.
-[ "$(cat "$dir/root/.pitvol-sysroot" 2>/dev/null)" = "$stamp_text" ] && exit 0
+[ "$(cat "$dir/tree/.pitvol-sysroot" 2>/dev/null)" = "$stamp_text" ] && exit 0
 
 if ! apt-cache show libc6:arm64 >/dev/null 2>&1; then
   echo "pitvol: no arm64 package lists; run toolchain/install-deps.sh --cross (it adds the arm64" \
@@ -70,14 +70,14 @@ if [ ${#missing[@]} -gt 0 ]; then
   apt-get download -q "${missing[@]}" >&2
 fi
 
-rm -rf "$dir/root.new"
-mkdir -p "$dir/root.new"
+rm -rf "$dir/tree.new"
+mkdir -p "$dir/tree.new"
 for p in "${packages[@]}"; do
   # The newest file of a package, should the cache hold two versions.
   deb=$(ls -t $(compgen -G "${p}_*_arm64.deb"; compgen -G "${p}_*_all.deb") | head -1)
-  dpkg -x "$deb" "$dir/root.new"
+  dpkg -x "$deb" "$dir/tree.new"
 done
-cd "$dir/root.new"
+cd "$dir/tree.new"
 # Merged /usr, as a bookworm system: lib/ and lib64/ into usr/.
 for d in lib lib64; do
   if [ -d "$d" ] && [ ! -L "$d" ]; then
@@ -95,6 +95,6 @@ find . -type l -lname '/*' | while read -r link; do
 done
 echo "$stamp_text" >.pitvol-sysroot
 cd "$dir"
-rm -rf root
-mv root.new root
-echo "pitvol: arm64 sysroot ready in $dir/root" >&2
+rm -rf tree
+mv tree.new tree
+echo "pitvol: arm64 sysroot ready in $dir/tree" >&2

@@ -24,7 +24,7 @@ mcu_run() {  # ARGS... -> the MCU app's output under qemu
 }
 # As the board preset's tests run it: through the sysroot's loader
 # (toolchain/aarch64-linux-gnu.cmake).
-sysroot=${PITVOL_ARM64_SYSROOT:-build-sysroot/arm64}/root
+sysroot=${PITVOL_ARM64_SYSROOT:-build-sysroot/arm64}/tree
 qemu_a64=(qemu-aarch64-static "$sysroot/lib/ld-linux-aarch64.so.1"
           --library-path "$sysroot/usr/lib/aarch64-linux-gnu")
 
