@@ -5,7 +5,7 @@
  * (live estimate) and a signalfd (SIGTERM/SIGINT end the loop), plus any
  * descriptor added with pv_board_app_watch().
  *
- * Hook for the serial link (issue 10, lib/link/): open the port after
+ * Hook for the serial link (lib/link/, firmware/board_link.c): open the port after
  * pv_board_app_init, register its fd with pv_board_app_watch(); in the
  * callback, decode commands and feed them in with pv_board_app_post()
  * (PV_EV_START_STOP, ...); register pv_board_app_set_observer() to hear of

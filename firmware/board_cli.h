@@ -13,7 +13,7 @@ typedef struct pv_board_app pv_board_app_t;
 
 /* Where a program adds to the board (every member may be NULL). */
 typedef struct pv_board_cli_hooks {
-  /* After the board is set up, before the loop: the serial link (issue 10)
+  /* After the board is set up, before the loop: the serial link
    * opens the `serial` port here and registers it with pv_board_app_watch()
    * and pv_board_app_set_observer(). 0, or -1 with a sentence in err
    * (the program then stops with exit code 3). */

@@ -7,7 +7,7 @@
  *   display_width = 320          canvas size in pixels (>= 320 x 240)
  *   display_height = 240
  *   input = evdev:/dev/input/event0   or pipe:PATH, none; input.h
- *   serial = /dev/ttyS1          the tablet/logger link (issue 10), or none
+ *   serial = /dev/ttyS1          the tablet/logger link, or none
  *   serial_baud = 115200         its rate (9600 .. 4000000, standard rates)
  *   result_log = /var/lib/pitvol/results   the result log's directory, or none
  *   max_dry_density_kg_m3 = 1850 reference for relative compaction (0: none)

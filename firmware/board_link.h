@@ -1,5 +1,5 @@
 /*
- * The board's serial link and result log (issue 10; docs/protocol/serial.md
+ * The board's serial link and result log (docs/protocol/serial.md
  * "What the board application does"): attaches to the board application
  * through its hooks (pv_board_app_watch, _post, _set_observer).
  *  - opens the result log (config result_log) and the port (config serial,

@@ -78,7 +78,7 @@ typedef struct pv_board_model {
   uint32_t dropped_events; /* events lost to a full queue since start: the
                               result screens show them */
   char message[128];     /* why a scan could not start, etc. */
-  /* Density (issue 10): set over the serial link (SetMass, SetMoisture).
+  /* Density (docs/density.md): set over the serial link (SetMass, SetMoisture).
    * The mass belongs to one pit: a measured result uses it and clears it;
    * the moisture stays until changed. */
   int mass_set, moisture_set;

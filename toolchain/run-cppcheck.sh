@@ -6,7 +6,7 @@
 #    bits = 0.0 on every IEEE-754 target we build for;
 #  - legacyUninitvar in session.cpp: a placement new into the caller's
 #    block, which cppcheck 2.10 reads as an uninitialised pointer;
-#  - invalidPointerCast in surface_model.cpp and angle_bins.cpp (issue 12):
+#  - invalidPointerCast in surface_model.cpp and angle_bins.cpp:
 #    integer scratch kept in unused double/float arrays of the workspace;
 #    no value is read back as the other type.
 set -euo pipefail

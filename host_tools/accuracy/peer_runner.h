@@ -1,5 +1,6 @@
-// The peers of the accuracy report (issue 7): other programs' volumes of the
-// same scans, for pitvol-accuracy to print beside pitvol's methods.
+// The peers of the accuracy report (docs/accuracy.md "Peers"): other
+// programs' volumes of the same scans, for pitvol-accuracy to print beside
+// pitvol's methods.
 //
 //   grid25        the reference 2.5D grid (host_tools/peers/grid25.h), 1 mm
 //   cloudcompare  CloudCompare's 2.5D volume, run headless on the levelled

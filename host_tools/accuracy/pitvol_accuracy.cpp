@@ -156,7 +156,7 @@ struct Stats {
     return b;
   }
   // "holds/measured, median +/-": how often the interval contains the truth
-  // and its median half-width (issue 7: at least 95 % over the corpus).
+  // and its median half-width (the target: at least 95 % over the corpus).
   std::string interval() const {
     if (with_interval == 0) return "-";
     char b[64];
@@ -556,7 +556,7 @@ int main(int argc, char **argv) {
     (ok ? passed : failed)++;
   }
   // The interval must hold the truth in at least 95 % of the measured cases
-  // (issue 7); judged only over 20 cases or more (one miss in a handful
+  // (a +/- that misses more often promises what it cannot); judged only over 20 cases or more (one miss in a handful
   // says nothing), so --every runs skip it.
   Stats all0;
   for (const Case &c : cases) all0.add(results[m0][c.name]);

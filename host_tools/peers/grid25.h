@@ -1,5 +1,6 @@
 // A reference 2.5D grid volume: what CloudCompare's "2.5D volume" does, as
-// a yardstick for pitvol's own methods in the accuracy report (issue 7).
+// a yardstick for pitvol's own methods in the accuracy report
+// (docs/accuracy.md "Peers").
 //
 // Input: a levelled cloud (bottom plane at z = 0, the pit opening towards
 // +z, millimetres) and the rim height (the lid plane). Steps:

@@ -37,8 +37,8 @@ struct Extent {
     for (int i = 0; i < 3; ++i) {
       if (!std::isfinite(v[i])) return;
     }
-    // Finite values: plain compares (std::fmin/fmax were library calls per
-    // coordinate, issue 12).
+    // Finite values: plain compares (std::fmin/fmax are library calls per
+    // coordinate, a visible share of reading a large file).
     for (int i = 0; i < 3; ++i) {
       lo[i] = v[i] < lo[i] ? v[i] : lo[i];
       hi[i] = v[i] > hi[i] ? v[i] : hi[i];
@@ -140,7 +140,8 @@ int run_measure(const MeasureOptions &opt) {
   SessionBlock block;
   // The block in 2 MiB pages where the kernel offers them (transparent huge
   // pages on request): some 4,000 page faults of a 400k-point scan become
-  // about 15 (issue 12: faults were a tenth of the replay's CPU time).
+  // about 15 (with 4 KiB pages the faults are a tenth of the replay's CPU
+  // time).
   constexpr size_t kHugePage = size_t(2) << 20;
   const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
   block.ptr = std::aligned_alloc(kHugePage, rounded);

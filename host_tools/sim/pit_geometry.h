@@ -44,9 +44,9 @@ enum class Family {
   kCount
 };
 
-// The 11 families of the corpus sets (standard, holdout, stress), which
-// were fixed before RoundedBowl was added: the corpus iterates these only,
-// so a family added later leaves its scans byte for byte as they were.
+// The 11 families of the corpus sets (standard, holdout, stress): the corpus
+// iterates these only, so a family added after them (RoundedBowl) leaves the
+// corpus's scans, and tests/corpus/expected.csv, byte for byte the same.
 constexpr int kCorpusFamilies = 11;
 
 const char *family_name(Family f);           // "cylinder", "protrusions", ...

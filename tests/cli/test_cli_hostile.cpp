@@ -1,5 +1,5 @@
-// Hostile input to the host tools (CTest label "cli"): every case of
-// issue 9's list, each with the exit code and the message the user sees.
+// Hostile input to the host tools (CTest label "cli"; docs/reliability.md):
+// each case with the exit code and the message the user sees.
 //
 //   test_cli_hostile DIR_OF_TOOLS
 //

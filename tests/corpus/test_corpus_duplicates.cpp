@@ -1,4 +1,5 @@
-// A scanner that resends frames must not move the volume (issue 9).
+// A scanner that resends frames must not move the volume: a resent frame
+// would otherwise weigh its part of the wall twice.
 //
 //   test_corpus_duplicates CORPUS_DIR [EVERY]
 //

@@ -101,8 +101,7 @@ check_allocations() {
   fi
   grep -q "board=0 push=0 " <<<"$line" || fail "allocations after start: $line"
   # The counter is live: it sees libusb's own allocations (the core's
-  # estimate/finish allocate nothing since the neighbour grid replaced the
-  # kd-tree; measure=0 is asserted below).
+  # estimate/finish allocate nothing: measure=0 is asserted below).
   grep -Eq "usb=[1-9]" <<<"$line" || fail "the allocation counter saw nothing: $line"
   grep -q " measure=0" <<<"$line" || fail "estimate/finish allocated: $line"
   pass "no allocation in the board or push after start (${line#*: })"
@@ -237,7 +236,7 @@ refused)
   png_ok refused
   ;;
 serial_link)
-  # The serial link (issue 10) over a real pseudo-terminal: pitvol-monitor
+  # The serial link (docs/protocol/serial.md) over a real pseudo-terminal: pitvol-monitor
   # against the board, every message of the protocol exchanged; the
   # monitor's result equals pitvol measure bit for bit; the result log keeps
   # it through a restart of the board.

@@ -1,5 +1,5 @@
-// The hook the serial link (issue 10) will use, exercised in-process with
-// the emulated scanner: a descriptor registered with pv_board_app_watch()
+// The hook the serial link (firmware/board_link.c) uses, exercised in-process
+// with the emulated scanner: a descriptor registered with pv_board_app_watch()
 // carries commands, the callback feeds them in with pv_board_app_post(),
 // and the observer hears every state, live estimate and the result. A pipe
 // stands in for the serial port here; the board's own buttons are "none".

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Screened Poisson peer of the accuracy report (issue 7).
+"""Screened Poisson peer of the accuracy report (docs/accuracy.md "Peers").
 
 Measures the pit volume of a cloud written by
 `pitvol measure FILE --export-levelled OUT.ply` (bottom plane at z = 0, the

@@ -58,8 +58,8 @@ void hash_sample_is_order_independent(void **) {
 
 // A floor scanned twice, 2 mm apart along its normal (tracking slipped):
 // both copies lie inside the wide band (2.5 mm), whose least-squares plane
-// falls between them, where the narrow band (0.6 mm) held no point and the
-// fit failed. Now the plane is the denser copy's, tilted as the floor is.
+// falls between them, where the narrow band (0.6 mm) holds no point and the
+// fit would fail. The plane must be the denser copy's, tilted as the floor is.
 void doubled_floor_gives_the_denser_copy(void **) {
   pv::test::Rng rng{7};
   const Eigen::Vector3d n = Eigen::Vector3d(0.1, -0.05, 1.0).normalized();

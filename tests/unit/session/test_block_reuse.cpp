@@ -3,7 +3,7 @@
 // core must read only what it wrote.
 //
 // The regression input (fuzz/corpus/session/regression-stale-wall-values,
-// a finding of fuzz_session_surface, issue 9): a cloud whose sparse wall
+// a finding of fuzz_session_surface): a cloud whose sparse wall
 // bins were all rejected as outliers left the wall grid with no seen bin,
 // and the volume was integrated from values no build had written. Its first
 // live estimate read PV_ERR_NOT_A_PIT on a zeroed block and PV_ERR_WALL_GAP

@@ -80,7 +80,7 @@ void push_never_allocates(void **) {
 void use_paper(pv_config_t *c) { c->method = PV_METHOD_PAPER; }
 
 // estimate() and finish() of the default method (surface) and of paper work
-// in the block alone (issue 12): zero allocations, however often estimate()
+// in the block alone (the board has no allocator to spare): zero allocations, however often estimate()
 // runs while the scan goes on.
 void estimate_and_finish_never_allocate(void **) {
   pv::synth::PitSpec spec;

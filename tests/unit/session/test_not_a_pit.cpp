@@ -1,12 +1,14 @@
-// Plausibility (issue 9): what is not one open pit gets no volume. Each
-// cloud below once measured PV_OK (or would have): a random cloud, a closed
+// Plausibility: what is not one open pit gets no volume (a wrong number with
+// exit 0 is the worst failure an instrument has). Each cloud below would
+// measure PV_OK without the checks: a random cloud, a closed
 // sphere shell, a plane, a mound (a solid cylinder on the ground: levelled
 // upside down it looks like a pit), two pits in one scan, and a trench
 // longer than the grids. A real pit beside them still measures. Each refusal
 // names the check the geometry implies, with its figure beyond its limit.
-// Every case runs with each method: the per-layer methods paper and polar
-// are held to the same checks (until 2026-12-02 they measured all five
-// non-pits: the random cloud 29703.0 cm3 with paper, the sphere 14105.6).
+// Every case runs with each method: whether the points are one open pit does
+// not depend on the method that integrates them, so the per-layer methods
+// paper and polar are held to the same checks (their own checks alone
+// measure all five non-pits: the random cloud 29703.0 cm3 with paper).
 #include <cmath>
 #include <vector>
 

@@ -3,7 +3,7 @@
 // a real pit.
 //
 // The regression input (fuzz/corpus/session/regression-negative-volume-polar,
-// a finding of fuzz_session, issue 9): 3,752 raw points on which method
+// a finding of fuzz_session): 3,752 raw points on which method
 // polar kept 15 layers whose sections jump between 5,000 and 385,000 mm2
 // from one layer to the next; the uneven-spacing Simpson rule (volume.h,
 // V1) weighted some of them negatively and finish() returned PV_OK with
@@ -22,9 +22,8 @@ void erratic_sections_are_refused(void **) {
   const std::vector<pv_point_t> pts = fuzz_input_points(PV_REGRESSION_INPUT);
   assert_int_equal(pts.size(), 3752);
   // As the harness runs it: method polar (seed bit 0 set), its small
-  // configuration (found with the default grids, which the per-layer
-  // methods did not use then; now the fine ones of their plausibility
-  // checks, which come after the sections check).
+  // configuration and the fine grids of the plausibility checks (they come
+  // after the sections check, so the grids do not change what it sees).
   pv_config_t cfg;
   pv::fuzz::session_config(&cfg, PV_METHOD_POLAR, pv::fuzz::Grids::Fine);
   TestSession t(cfg);

@@ -119,8 +119,8 @@ void estimate_while_streaming_then_finish(void **) {
 }
 
 // An estimate before the first plane (during warm-up) says so and leaves
-// the final result bit for bit as without it (it used to fix the plane from
-// the few points there were and drop the rest of the scan as out of range).
+// the final result bit for bit as without it (fixing the plane from the few
+// points there are would drop the rest of the scan as out of range).
 void estimate_during_warmup_changes_nothing(void **) {
   pv::synth::PitSpec spec;
   spec.seed = 9;

@@ -1,4 +1,5 @@
-// The surface model's capacities as configuration fields (issue 11): the
+// The surface model's capacities as configuration fields (so that the MCU
+// fits its block; docs/memory.md): the
 // MCU profile's block, its volume against the default configuration's, the
 // workspace that overlays the levelling and warm-up scratch, and the
 // validation of the new fields.

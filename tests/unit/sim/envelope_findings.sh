@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Findings of the envelope sweep (seed 1, the tuning seed), each made again
-# by pitvol-sim and measured by pitvol: what each was before its fix and
-# what it must be now. The scans are the sweep's own, at full density.
+# by pitvol-sim and measured by pitvol: what each must read, and in the
+# comments what a pitvol without the guard reads. The scans are the sweep's
+# own, at full density.
 # Usage: envelope_findings.sh PITVOL_SIM PITVOL WORK_DIR
 set -euo pipefail
 sim=$1 pitvol=$2 work=$3
@@ -24,18 +25,21 @@ measure() {
 within() {  # within PERCENT: the volume's error against exact
   awk -v v="$volume" -v e="$exact" -v p="$1" 'BEGIN { d = (v - e) / e * 100; if (d < 0) d = -d; exit !(d <= p) }'
 }
-# A second pass 17 mm higher: +10.4 % with PV_OK before; a doubled floor now.
+# A second pass 17 mm higher: a doubled floor (without the check: +10.4 %
+# with PV_OK).
 measure 206
 [ "$status" = PV_ERR_NOT_A_PIT ] && [ "$check" = PV_PIT_CHECK_DOUBLED_FLOOR ] ||
   fail "206 (vertical slip): $status $check $volume cm3"
-# A 0.4 m3 pit 804 mm deep with a narrow ground ring: DEPTH_EXCEEDS_CAPACITY
-# before (640 mm range), then -10 % (strays filled the rim-plane sectors).
+# A 0.4 m3 pit 804 mm deep with a narrow ground ring: within range (960 mm),
+# and measured although strays fill the rim-plane sectors (undug: -10 %).
 measure 23
 [ "$status" = PV_OK ] && within 0.1 || fail "23 (0.4 m3, 804 mm deep): $status $volume cm3 against $exact"
-# 1.48 m across: TOO_WIDE before (grids of 320 mm radius).
+# 1.48 m across: wider than the grids' 320 mm radius, measured on grids
+# scaled to it.
 measure 46
 [ "$status" = PV_OK ] && within 1.0 || fail "46 (741 mm radius): $status $volume cm3 against $exact"
-# Its scan thins out 150 mm below the rim: -19 % with PV_OK, now no rim.
+# Its scan thins out 150 mm below the rim: no rim (taking the fading wall's
+# top as the rim reads -19 % with PV_OK).
 measure 267
 [ "$status" = PV_ERR_NO_RIM ] || fail "267 (wall fading out): $status $volume cm3 against $exact"
 echo "envelope findings: 4 cases as expected"

@@ -1,14 +1,14 @@
 // A scan that holds the pit twice, registered a few mm apart: a handheld
 // scanner whose tracking slipped and which went on scanning from the wrong
 // pose. The model takes the outer wall and the lower floor of the two
-// copies; until 2026-12-02 such scans read +0.3 to +3.1 % with PV_OK and an
-// interval of about 0.25 % (docs/reliability.md, "Doubled scans"). Now the
+// copies, so without a check such scans read +0.3 to +3.1 % with PV_OK and
+// an interval of about 0.25 % (docs/reliability.md, "Doubled scans"). The
 // second surface behind the first refuses them: PV_ERR_NOT_A_PIT with
 // PV_PIT_CHECK_DOUBLED_WALL (copies apart across the wall) or
 // PV_PIT_CHECK_DOUBLED_FLOOR (apart along the axis). The same scan sent
-// once measures within its interval. Copies closer than the band read up
-// to +/-0.6 % with PV_OK until the band's spread joined the wall check
-// (2026-12-02).
+// once measures within its interval. Copies closer than the band leave
+// nothing behind it; they read up to +/-0.6 % with PV_OK unless the band's
+// spread is part of the wall check, as it is.
 #include <cmath>
 #include <vector>
 

@@ -1,17 +1,17 @@
 // Pits with wet patches: soil that returns nothing (`pitvol-sim scan
 // --dropouts N`). Where a patch takes the foot of the wall, the points left
 // in the hole are multipath floating in front of the floor nearby: single
-// points scattered over tens of mm. They agreed with their own median and
-// passed the outlier test, and bridging spread them over the hole; every
-// such scan read low, 15 of 43 outside their interval (shallow_wide, 20
-// patches: -1.57 % against +/-0.81 %). Since 2026-12-02 a seen bin must be
-// reachable from the well-seen wall in steps of at most 3 mm per bin
+// points scattered over tens of mm. They agree with their own median and
+// pass the outlier test, and bridging spreads them over the hole: without
+// more, every such scan reads low, 15 of 43 outside their interval
+// (shallow_wide, 20 patches: -1.57 % against +/-0.81 %). So a seen bin must
+// be reachable from the well-seen wall in steps of at most 3 mm per bin
 // (surface_model.cpp, reject_unconnected).
 //
 // A patch on a bowl's slope leaves a hole in the floor map between floor
 // seen further in and further out; carried flat across it, the floor
-// overstated the void (bowl, 12 patches, seed 6: +0.62 % against
-// +/-0.25 %). Since 2026-12-02 the floor in such a hole is the middle of
+// overstates the void (bowl, 12 patches, seed 6: +0.62 % against
+// +/-0.25 %). So the floor in such a hole is the middle of
 // the flat floor and the straight line across, and half their difference
 // is in the interval (surface_model.cpp, prepare_rays).
 //
