@@ -59,12 +59,13 @@ typedef struct pv_board_config {
  * and the core's defaults. */
 void pv_board_config_default(pv_board_config_t *c);
 /* Applies one `key = value`; 0 or -1 with a reason in err. */
-int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value, char *err,
-                        size_t errcap);
+PV_NODISCARD int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value,
+                                     char *err, size_t errcap);
 /* Reads a file on top of what c holds; 0 or -1 with "path:line: reason". */
-int pv_board_config_load(pv_board_config_t *c, const char *path, char *err, size_t errcap);
+PV_NODISCARD int pv_board_config_load(pv_board_config_t *c, const char *path, char *err,
+                                      size_t errcap);
 /* Checks the whole configuration (core included); 0 or -1 with a reason. */
-int pv_board_config_check(const pv_board_config_t *c, char *err, size_t errcap);
+PV_NODISCARD int pv_board_config_check(const pv_board_config_t *c, char *err, size_t errcap);
 
 #ifdef __cplusplus
 }

@@ -147,7 +147,10 @@ static void send_status(pv_board_link_t *bl) {
   s->moisture_set = md->moisture_set != 0;
   s->moisture_percent = md->moisture_set ? md->moisture_percent : 0;
   s->frames_corrupt = bl->link.stats.frames_corrupt;
-  pv_link_send(&bl->link, &m, PV_LINK_LOSSY, NULL);
+  /* A Status the queue has no room for is dropped and counted by the link
+   * (lossy_dropped, printed at exit): the next one replaces it. */
+  const pv_link_status_t st = pv_link_send(&bl->link, &m, PV_LINK_LOSSY, NULL);
+  (void)st;
 }
 
 static void send_hello(pv_board_link_t *bl) {
@@ -191,7 +194,12 @@ static void continue_fetch(pv_board_link_t *bl) {
       continue; /* the host names the gap */
     }
     if (pv_link_send(&bl->link, &m, PV_LINK_RELIABLE, NULL) != PV_LINK_OK) {
-      pv_log_seek(&bl->log, seq, &bl->fetch.cur); /* this one again after a flush */
+      /* this one again after a flush */
+      const pv_log_status_t sst = pv_log_seek(&bl->log, seq, &bl->fetch.cur);
+      if (sst != PV_LOG_OK) {
+        bl->fetch.on = 0;
+        nack(bl, bl->fetch.cmd_seq, pitvol_NackCode_NACK_STORAGE, pv_log_status_message(sst));
+      }
       return;
     }
     bl->fetch.sent++;
@@ -517,7 +525,10 @@ int pv_board_link_start(pv_board_link_t *bl, pv_board_app_t *app, int adopt_fd, 
 void pv_board_link_stop(pv_board_link_t *bl) {
   if (bl->app == NULL) return; /* never started */
   if (bl->have_port) {
-    pv_link_tx_flush(&bl->link, write_port, bl);
+    if (pv_link_tx_flush(&bl->link, write_port, bl) != PV_LINK_OK) {
+      printf("pitvol-board: link: writing the port failed: %u frames not sent\n",
+             bl->link.tx_count);
+    }
     const pv_link_stats_t *s = &bl->link.stats;
     printf("pitvol-board: link: %u frames sent, %u received, %u corrupt, %u missed, %u repeated "
            "commands, %u status dropped, %u outbox dropped, %u host restarts\n",

@@ -57,8 +57,8 @@ typedef struct pv_board_link {
 /* After pv_board_app_init. adopt_fd >= 0: a terminal fd to use instead of
  * opening cfg.serial (the host runner's pseudo-terminal); the link closes
  * it. 0, or -1 with a sentence in err (the result log cannot be opened). */
-int pv_board_link_start(pv_board_link_t *bl, pv_board_app_t *app, int adopt_fd, char *err,
-                        size_t errcap);
+PV_NODISCARD int pv_board_link_start(pv_board_link_t *bl, pv_board_app_t *app, int adopt_fd,
+                                     char *err, size_t errcap);
 /* After the loop: flushes what it can, prints the link's counters, closes. */
 void pv_board_link_stop(pv_board_link_t *bl);
 

@@ -21,7 +21,7 @@ extern "C" {
 /* After pv_board_app_init: READY=1 and, if $WATCHDOG_USEC asks for one
  * (and $WATCHDOG_PID is this process or unset), the ping timer. 0, or -1
  * with a sentence in err. */
-int pv_board_watchdog_start(pv_board_app_t *app, char *err, size_t errcap);
+PV_NODISCARD int pv_board_watchdog_start(pv_board_app_t *app, char *err, size_t errcap);
 /* Closes the timer and the socket (after the loop has ended). */
 void pv_board_watchdog_stop(void);
 

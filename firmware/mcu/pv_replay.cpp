@@ -76,7 +76,8 @@ struct Fnv {
 uint64_t layers_hash(const pv_session_t *s, uint32_t *count_out) {
   Fnv f;
   size_t n = 0;
-  pv_session_layers(s, g_layers, sizeof g_layers / sizeof g_layers[0], &n);
+  const pv_status_t st = pv_session_layers(s, g_layers, sizeof g_layers / sizeof g_layers[0], &n);
+  if (st != PV_OK) printf("# layers: %s\n", pv_status_message(st));
   for (size_t i = 0; i < n; ++i) {
     const pv_layer_info_t &li = g_layers[i];
     f.add(&li.z_mm, sizeof li.z_mm);
@@ -140,13 +141,25 @@ bool replay(const char *path, const pv_config_t &cfg) {
     return false;
   }
   size_t n;
-  while ((n = ply.read(g_batch, kBatchPoints)) > 0) pv_session_push(s, g_batch, n);
+  while ((n = ply.read(g_batch, kBatchPoints)) > 0) {
+    const pv_status_t pst = pv_session_push(s, g_batch, n);
+    if (pst != PV_OK) {
+      printf("# %s: push: %s\n", path, pv_status_message(pst));
+      return false;
+    }
+  }
   if (ply.error() != nullptr) {
     printf("# %s: %s\n", path, ply.error());
     return false;
   }
-  pv_result_t r;
-  pv_session_finish(s, &r);
+  // A refused scan is a result like a measured one: its status is printed
+  // with it. Only a call the session could not take leaves r unset.
+  pv_result_t r{};
+  const pv_status_t fst = pv_session_finish(s, &r);
+  if (fst != r.status) {
+    printf("# %s: finish: %s\n", path, pv_status_message(fst));
+    return false;
+  }
   printf("scan %s\n", base_name(path));
   print_result(r);
   uint32_t layers = 0;
@@ -180,7 +193,11 @@ int main(int argc, char **argv) {
     return 2;
   }
   size_t need = 0;
-  pv_session_size(&cfg, &need);
+  const pv_status_t sst = pv_session_size(&cfg, &need);
+  if (sst != PV_OK) {
+    printf("pv-replay: the configuration has no block size: %s\n", pv_status_message(sst));
+    return 2;
+  }
   if (strcmp(argv[first], "--block-size") == 0) {
     printf("block_bytes %lu\n", static_cast<unsigned long>(need));
     return 0;

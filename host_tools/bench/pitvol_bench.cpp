@@ -153,9 +153,17 @@ struct Session {
   Session &operator=(const Session &) = delete;
 };
 
+// A call the session refuses makes every figure after it meaningless.
+void require(pv_status_t st, const char *what) {
+  if (st == PV_OK) return;
+  std::fprintf(stderr, "pitvol-bench: %s failed: %s (%s)\n", what, pv_status_message(st),
+               pv_status_name(st));
+  std::exit(1);
+}
+
 void push_all(pv_session_t *s, const std::vector<pv_point_t> &pts) {
   for (size_t i = 0; i < pts.size(); i += kBatch) {
-    pv_session_push(s, pts.data() + i, std::min(kBatch, pts.size() - i));
+    require(pv_session_push(s, pts.data() + i, std::min(kBatch, pts.size() - i)), "push");
   }
 }
 
@@ -224,7 +232,7 @@ int scale_child(uint64_t n) {
     for (size_t i = 0; i < m; ++i) batch[i] = scan.next();
     const auto t0 = Clock::now();
     const double c0 = cpu_ms();
-    pv_session_push(session.s, batch.data(), m);
+    require(pv_session_push(session.s, batch.data(), m), "push");
     push_cpu += cpu_ms() - c0;
     push_ms += ms_between(t0, Clock::now());
     done += m;
@@ -433,7 +441,7 @@ int main(int argc, char **argv) {
   const std::vector<pv_point_t> big = make_scan(ingest_points, 1);  // not timed
   std::vector<double> rates, cpu_rates;
   for (int r = 0; r < kIngestRuns; ++r) {
-    pv_session_reset(session.s);
+    require(pv_session_reset(session.s), "reset");
     const auto t0 = Clock::now();
     const double c0 = cpu_ms();
     push_all(session.s, big);
@@ -454,7 +462,7 @@ int main(int argc, char **argv) {
   pv_result_t res{};
   {
     std::vector<double> est_ms, est_cpu;
-    pv_session_reset(session.s);
+    require(pv_session_reset(session.s), "reset");
     push_all(session.s, scan);
     for (int r = 0; r < kEstimateRuns; ++r) {
       const auto t0 = Clock::now();
@@ -477,7 +485,7 @@ int main(int argc, char **argv) {
     Session &ses = m == 0 ? session : paper_session;
     std::vector<double> finish_ms, finish_cpu;
     for (int r = 0; r < kFinishRuns; ++r) {
-      pv_session_reset(ses.s);
+      require(pv_session_reset(ses.s), "reset");
       push_all(ses.s, scan);
       const auto t0 = Clock::now();
       const double c0 = cpu_ms();

@@ -99,6 +99,10 @@ int main(int argc, char **argv) {
     }
   }
   // --method over the config file's method.
-  if (!method.empty()) pv_method_from_name(method.c_str(), &opt.cfg.method);
+  if (!method.empty() && pv_method_from_name(method.c_str(), &opt.cfg.method) != PV_OK) {
+    std::fprintf(stderr, "pitvol: --method: unknown method '%s' (surface, paper or polar)\n",
+                 method.c_str());
+    return kExitUsage;
+  }
   return run_measure(opt);
 }

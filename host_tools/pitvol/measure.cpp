@@ -178,7 +178,14 @@ int run_measure(const MeasureOptions &opt) {
       if (count_exportable && exportable(p)) ++exportable_points;
     }
     points += uint64_t(n);
-    pv_session_push(session, chunk.data(), size_t(n));
+    // Bad points are counted, not refused: a push fails only on a session
+    // that cannot take points, a bug of this program.
+    const pv_status_t pst = pv_session_push(session, chunk.data(), size_t(n));
+    if (pst != PV_OK) {
+      std::fprintf(stderr, "pitvol: the session refused points: %s (%s)\n", pv_status_message(pst),
+                   pv_status_name(pst));
+      return kExitInternal;
+    }
     progress.update(reader->bytes_consumed(), points);
   }
   const double read_ms = ms_since(t_start);

@@ -42,12 +42,14 @@ using Clock = std::chrono::steady_clock;
 struct Sink {
   pv_session_t *session = nullptr;
   uint64_t points = 0;
+  pv_status_t push_status = PV_OK;  // the first push the session refused
 };
 
 void on_points(void *user, const pv_usb_frame_header_t *, const pv_point_t *pts, size_t n) {
   auto *s = static_cast<Sink *>(user);
   s->points += n;
-  pv_session_push(s->session, pts, n);
+  const pv_status_t st = pv_session_push(s->session, pts, n);
+  if (st != PV_OK && s->push_status == PV_OK) s->push_status = st;
 }
 
 // A number option's value must be finite (CLI11's ranges let NaN pass).
@@ -168,7 +170,13 @@ int main(int argc, char **argv) {
   pv_config_t cfg;
   pv_config_default(&cfg);
   size_t bytes = 0;
-  pv_session_size(&cfg, &bytes);
+  const pv_status_t size_st = pv_session_size(&cfg, &bytes);
+  if (size_st != PV_OK) {
+    std::fprintf(stderr, "pitvol-usb-replay: the default configuration has no block size: %s\n",
+                 pv_status_message(size_st));
+    pv_emu_destroy(emu);
+    return 5;
+  }
   SessionBlock block;
   block.ptr = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
   Sink sink;
@@ -205,6 +213,13 @@ int main(int argc, char **argv) {
   pv_emu_stats_t es;
   pv_emu_stats(emu, &es);
   pv_emu_destroy(emu);
+  // Bad points are counted, not refused: a refused push is a bug of this
+  // program, and the volume would be of part of the scan.
+  if (sink.push_status != PV_OK) {
+    std::fprintf(stderr, "pitvol-usb-replay: the session refused points: %s (%s)\n",
+                 pv_status_message(sink.push_status), pv_status_name(sink.push_status));
+    return 5;
+  }
 
   const auto t_finish = Clock::now();
   pv_result_t r{};

@@ -276,8 +276,12 @@ static int hand_on(pv_link_t *link, const pv_link_rx_t *rx) {
   if (link->cmd_have_seq && link->cmd_last_seq == rx->seq) {
     link->stats.commands_duplicate++;
     /* The answer got lost: send it again. A repeat that arrives before the
-     * answer exists (a GetResults still streaming) is ignored. */
-    if (link->reply_valid) (void)pv_link_send(link, &link->reply, PV_LINK_RELIABLE, NULL);
+     * answer exists (a GetResults still streaming) is ignored, and so is a
+     * refusal of a full queue: the host repeats the command again. */
+    if (link->reply_valid) {
+      const pv_link_status_t st = pv_link_send(link, &link->reply, PV_LINK_RELIABLE, NULL);
+      (void)st;
+    }
     return 0;
   }
   link->cmd_have_seq = 1;

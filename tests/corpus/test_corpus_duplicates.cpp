@@ -41,9 +41,10 @@ struct Block {
   explicit Block(pv_method_t m) {
     pv_config_default(&cfg);
     cfg.method = m;
-    pv_session_size(&cfg, &bytes);
+    assert_int_equal(pv_session_size(&cfg, &bytes), PV_OK);
     mem = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
-    pv_session_init(&cfg, mem, bytes, &s);
+    assert_non_null(mem);
+    assert_int_equal(pv_session_init(&cfg, mem, bytes, &s), PV_OK);
   }
   ~Block() { std::free(mem); }
 };
@@ -76,10 +77,12 @@ std::vector<pv_point_t> frame_copy(const pv_point_t *p, size_t n, int c) {
 pv_result_t measure_once(const std::vector<pv_point_t> &pts, pv_method_t m) {
   Block b(m);
   for (size_t i = 0; i < pts.size(); i += kFrame) {
-    pv_session_push(b.s, pts.data() + i, std::min(kFrame, pts.size() - i));
+    assert_int_equal(pv_session_push(b.s, pts.data() + i, std::min(kFrame, pts.size() - i)), PV_OK);
   }
   pv_result_t r{};
-  pv_session_finish(b.s, &r);
+  // A refusal is a result too (compared below); the call must have made one.
+  const pv_status_t st = pv_session_finish(b.s, &r);
+  assert_int_equal(st, r.status);
   return r;
 }
 
@@ -89,7 +92,7 @@ pv_result_t measure_resent(const std::vector<pv_point_t> &pts, pv_method_t m) {
   auto send = [&](size_t k, int c) {
     const size_t from = k * kFrame, n = std::min(kFrame, pts.size() - from);
     const std::vector<pv_point_t> f = frame_copy(pts.data() + from, n, c);
-    pv_session_push(b.s, f.data(), f.size());
+    assert_int_equal(pv_session_push(b.s, f.data(), f.size()), PV_OK);
   };
   for (size_t k = 0; k < frames + kCopies - 1; ++k) {
     if (k < frames) send(k, 0);
@@ -98,7 +101,8 @@ pv_result_t measure_resent(const std::vector<pv_point_t> &pts, pv_method_t m) {
     }
   }
   pv_result_t r{};
-  pv_session_finish(b.s, &r);
+  const pv_status_t st = pv_session_finish(b.s, &r);
+  assert_int_equal(st, r.status);
   return r;
 }
 

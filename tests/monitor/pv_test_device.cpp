@@ -238,8 +238,12 @@ pv_result_t measure_scan(const std::string &path, std::string *method) {
   if (!reader) return r;
   std::vector<pv_point_t> chunk(65536);
   long n;
-  while ((n = reader->read(chunk.data(), chunk.size(), &err)) > 0) pv_session_push(s, chunk.data(), size_t(n));
-  pv_session_finish(s, &r);
+  while ((n = reader->read(chunk.data(), chunk.size(), &err)) > 0) {
+    if (pv_session_push(s, chunk.data(), size_t(n)) != PV_OK) return r;
+  }
+  // finish fills r, its status included; a call it refuses leaves r.status
+  // at PV_ERR_INTERNAL.
+  (void)pv_session_finish(s, &r);
   return r;
 }
 
@@ -269,7 +273,8 @@ void send_status(Device &d) {
   s.moisture_set = d.moisture_set;
   s.moisture_percent = d.moisture_percent;
   s.frames_corrupt = d.link.stats.frames_corrupt;
-  pv_link_send(&d.link, &m, PV_LINK_LOSSY, nullptr);
+  // A full queue drops a Status (counted in lossy_dropped): the next replaces it.
+  (void)pv_link_send(&d.link, &m, PV_LINK_LOSSY, nullptr);
 }
 
 // Replies wait in the outbox behind the messages the command produced
@@ -516,7 +521,11 @@ int main(int argc, char **argv) {
     }
     pump_outbox(d);
     continue_fetch(d);
-    pv_link_tx_flush(&d.link, write_cb, &d);
+    const pv_link_status_t fst = pv_link_tx_flush(&d.link, write_cb, &d);
+    if (fst != PV_LINK_OK) {
+      std::fprintf(stderr, "pv-test-device: %s\n", pv_link_status_message(fst));
+      return 1;
+    }
     if (d.state == pitvol_DeviceState_STATE_COMPUTING && d.outbox.empty() &&
         !pv_link_tx_pending(&d.link) && d.wire_out.empty())
       finish_scan(d);

@@ -27,17 +27,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "pitvol/status_codes.h"
+
 #ifdef __cplusplus
 extern "C" {
-#endif
-
-/* For functions that can fail: a caller that drops the status does not
- * compile (pv_strict's -Werror=unused-result). Used by firmware/board_app.h
- * so far. */
-#if defined(__GNUC__) || defined(__clang__)
-#define PV_NODISCARD __attribute__((warn_unused_result))
-#else
-#define PV_NODISCARD
 #endif
 
 #define PV_VERSION_STRING "0.1.0"
@@ -120,7 +113,7 @@ typedef enum pv_method {
 } pv_method_t;
 
 /* "paper" / "polar" / "surface" <-> the enum. PV_ERR_INVALID_ARGUMENT if unknown. */
-pv_status_t pv_method_from_name(const char *name, pv_method_t *out);
+PV_NODISCARD pv_status_t pv_method_from_name(const char *name, pv_method_t *out);
 const char *pv_method_name(pv_method_t method);
 
 typedef struct pv_config {
@@ -201,7 +194,7 @@ void pv_config_default(pv_config_t *cfg);
 void pv_config_mcu(pv_config_t *cfg);
 /* PV_OK or PV_ERR_INVALID_CONFIG; if field_out is not NULL it receives the
  * name of the first offending field. */
-pv_status_t pv_config_validate(const pv_config_t *cfg, const char **field_out);
+PV_NODISCARD pv_status_t pv_config_validate(const pv_config_t *cfg, const char **field_out);
 
 typedef struct pv_point {
   float x_mm, y_mm, z_mm;
@@ -275,21 +268,21 @@ typedef struct pv_result {
 typedef struct pv_session pv_session_t;
 
 /* Bytes of block a configuration needs. */
-pv_status_t pv_session_size(const pv_config_t *cfg, size_t *bytes_out);
+PV_NODISCARD pv_status_t pv_session_size(const pv_config_t *cfg, size_t *bytes_out);
 /* Carves the session out of block; *session_out points into block. */
-pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size_t bytes,
-                            pv_session_t **session_out);
+PV_NODISCARD pv_status_t pv_session_init(const pv_config_t *cfg, void *block, size_t bytes,
+                                         pv_session_t **session_out);
 /* Any batch size (0 allowed), any order. Never allocates. */
-pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points,
-                            size_t count);
+PV_NODISCARD pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points,
+                                         size_t count);
 /* Volume from what has arrived so far; the session keeps streaming.
  * PV_ERR_TOO_FEW_POINTS until warmup_points have arrived (the first plane
  * is fitted then; an estimate never changes the final result). */
-pv_status_t pv_session_estimate(pv_session_t *s, pv_result_t *out);
+PV_NODISCARD pv_status_t pv_session_estimate(pv_session_t *s, pv_result_t *out);
 /* Final result. The session accepts no more points until reset. */
-pv_status_t pv_session_finish(pv_session_t *s, pv_result_t *out);
+PV_NODISCARD pv_status_t pv_session_finish(pv_session_t *s, pv_result_t *out);
 /* Forget the scan, keep the configuration and the block. */
-pv_status_t pv_session_reset(pv_session_t *s);
+PV_NODISCARD pv_status_t pv_session_reset(pv_session_t *s);
 
 /* Per-layer detail of the last estimate/finish, for plots and reports.
  * Writes at most capacity entries, returns the count in *count_out. */
@@ -300,8 +293,8 @@ typedef struct pv_layer_info {
   uint8_t kept;      /* 0 if removed by cleanup or unusable */
   uint8_t shape;     /* 0 near-circular, 1 crescent */
 } pv_layer_info_t;
-pv_status_t pv_session_layers(const pv_session_t *s, pv_layer_info_t *out,
-                              size_t capacity, size_t *count_out);
+PV_NODISCARD pv_status_t pv_session_layers(const pv_session_t *s, pv_layer_info_t *out,
+                                           size_t capacity, size_t *count_out);
 
 /* The levelling and the lid of the last estimate/finish, for tools that
  * measure the same levelled cloud another way (the peers of the accuracy
@@ -317,7 +310,7 @@ typedef struct pv_transform {
   double rim_mm;        /* rim height above the bottom plane */
   uint32_t rim_from_ground; /* 1: ground ring peak, 0: top of the wall */
 } pv_transform_t;
-pv_status_t pv_session_transform(pv_session_t *s, pv_transform_t *out);
+PV_NODISCARD pv_status_t pv_session_transform(pv_session_t *s, pv_transform_t *out);
 
 /* The surface model's wall grid (method surface), for plots and reports:
  * the wall's radius around the pit's axis on theta_bins x z_bins bins, in
@@ -346,8 +339,9 @@ typedef struct pv_wall_grid {
   double rim_mm;               /* rim height (as pv_result_t.depth_mm) */
   uint32_t theta_bins, z_bins;
 } pv_wall_grid_t;
-pv_status_t pv_session_wall_grid(pv_session_t *s, pv_wall_grid_t *grid, float *radius_mm,
-                                 uint8_t *state, size_t capacity);
+PV_NODISCARD pv_status_t pv_session_wall_grid(pv_session_t *s, pv_wall_grid_t *grid,
+                                              float *radius_mm, uint8_t *state,
+                                              size_t capacity);
 
 #ifdef __cplusplus
 }

@@ -119,7 +119,13 @@ bool replay(const std::string &frames, pv_session_t *s, pv_result_t *out) {
                  int(state), pv_status_name(sink.push_status));
     return false;
   }
-  pv_session_finish(s, out);
+  // A refusal is a result (compared by the caller); the call must make one.
+  *out = pv_result_t{};
+  const pv_status_t fst = pv_session_finish(s, out);
+  if (fst != out->status) {
+    std::fprintf(stderr, "scan %s: finish: %s\n", frames.c_str(), pv_status_name(fst));
+    return false;
+  }
   return true;
 }
 
@@ -136,7 +142,7 @@ struct Block {
   pv_session_t *s = nullptr;
   explicit Block(const pv_config_t &cfg) {
     size_t bytes = 0;
-    pv_session_size(&cfg, &bytes);
+    if (pv_session_size(&cfg, &bytes) != PV_OK) return;  // s stays nullptr: the caller fails
     const size_t rounded = (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN;
     mem = std::aligned_alloc(PV_BLOCK_ALIGN, rounded);
     if (mem == nullptr || pv_session_init(&cfg, mem, rounded, &s) != PV_OK) s = nullptr;
@@ -233,7 +239,11 @@ int main(int argc, char **argv) {
       return 1;
     }
     pv_result_t r{};
-    pv_session_finish(block.s, &r);
+    const pv_status_t fst = pv_session_finish(block.s, &r);
+    if (fst != r.status) {
+      std::fprintf(stderr, "scan %d: finish: %s\n", k, pv_status_name(fst));
+      return 1;
+    }
     if (!same_result(r, single[i])) {
       ++mismatches;
       std::fprintf(stderr, "scan %d (%d): %s %.17g cm3 from %llu points, alone %s %.17g cm3\n", k, i,

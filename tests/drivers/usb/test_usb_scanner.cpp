@@ -37,11 +37,12 @@ struct Session {
   void *block = nullptr;
   pv_session_t *s = nullptr;
   uint64_t points = 0;
+  pv_status_t push_status = PV_OK;  // the first push refused (checked after the run)
   Session() {
     pv_config_t cfg;
     pv_config_default(&cfg);
     size_t bytes = 0;
-    pv_session_size(&cfg, &bytes);
+    assert_int_equal(pv_session_size(&cfg, &bytes), PV_OK);
     block = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
     if (block == nullptr || pv_session_init(&cfg, block, bytes, &s) != PV_OK) s = nullptr;
   }
@@ -53,7 +54,9 @@ struct Session {
 void on_points(void *user, const pv_usb_frame_header_t *, const pv_point_t *pts, size_t n) {
   auto *s = static_cast<Session *>(user);
   s->points += n;
-  pv_session_push(s->s, pts, n);
+  // Not asserted here: cmocka's failure would jump out through libusb.
+  const pv_status_t st = pv_session_push(s->s, pts, n);
+  if (st != PV_OK && s->push_status == PV_OK) s->push_status = st;
 }
 
 // The PLY through scanio into a session: the reference.
@@ -72,7 +75,7 @@ pv_result_t ply_result() {
     assert_int_equal(pv_session_push(s.s, chunk.data(), size_t(n)), PV_OK);
   }
   assert_int_equal(n, 0);
-  pv_session_finish(s.s, &r);
+  assert_int_equal(pv_session_finish(s.s, &r), PV_OK);
   assert_int_equal(r.status, PV_OK);
   done = true;
   return r;
@@ -109,7 +112,10 @@ UsbRun run_usb(const pv_emu_options_t &o, int timeout_s = 60) {
   pv_emu_stats(emu, &run.emu);
   pv_emu_destroy(emu);
   run.points = s.points;
-  pv_session_finish(s.s, &run.result);
+  assert_int_equal(s.push_status, PV_OK);
+  // A refusal is a result the callers check; the call must have made one.
+  const pv_status_t st = pv_session_finish(s.s, &run.result);
+  assert_int_equal(st, run.result.status);
   return run;
 }
 
@@ -236,6 +242,7 @@ void test_unplug_and_replug(void **) {
   assert_int_equal(us.stream.frames_lost, 0);
   assert_int_equal(us.stream.scans_ended, 1);
   assert_int_equal(s.points, es.points_in);
+  assert_int_equal(s.push_status, PV_OK);
   pv_result_t r{};
   assert_int_equal(pv_session_finish(s.s, &r), PV_OK);
   assert_true(same_bits(r.volume_cm3, ref.volume_cm3));

@@ -343,7 +343,7 @@ void garbage_between_frames_is_skipped_and_counted(void **) {
                               uint32_t(rng.next()), 0};
       std::vector<uint8_t> fake(PV_USB_FRAME_BYTES(h.point_count));
       std::vector<float> pts(3 * size_t(h.point_count), 1.0f);
-      pv_usb_frame_encode(fake.data(), fake.size(), &h, pts.data());
+      assert_int_equal(pv_usb_frame_encode(fake.data(), fake.size(), &h, pts.data()), fake.size());
       fake.back() ^= 0x01;
       fake.resize(kind == 2 ? fake.size() : PV_USB_HEADER_BYTES);
       insert_at(g, at, fake);

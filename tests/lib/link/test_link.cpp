@@ -69,10 +69,10 @@ void cobs_round_trips_and_never_emits_a_zero(void **) {
   int ok = 1;
   uint8_t out[8];
   const uint8_t past[] = {0x05, 0x11, 0x22};
-  pv_cobs_decode(past, sizeof past, out, sizeof out, &ok);
+  assert_int_equal(pv_cobs_decode(past, sizeof past, out, sizeof out, &ok), 0);
   assert_false(ok);
   const uint8_t zero[] = {0x03, 0x11, 0x00};
-  pv_cobs_decode(zero, sizeof zero, out, sizeof out, &ok);
+  assert_int_equal(pv_cobs_decode(zero, sizeof zero, out, sizeof out, &ok), 0);
   assert_false(ok);
 }
 
@@ -225,8 +225,8 @@ void a_flipped_bit_costs_one_frame_and_the_reader_resyncs(void **) {
   Bytes wire{0x13, 0x37, 0x55};  // garbage before the first frame
   for (uint32_t id = 1; id <= 3; ++id) {
     const pitvol_Message m = result(id);
-    pv_link_send(&tx, &m, PV_LINK_RELIABLE, nullptr);
-    pv_link_tx_flush(&tx, write_all, &wire);
+    assert_int_equal(pv_link_send(&tx, &m, PV_LINK_RELIABLE, nullptr), PV_LINK_OK);
+    assert_int_equal(pv_link_tx_flush(&tx, write_all, &wire), PV_LINK_OK);
   }
   // Flip one bit in the middle of the second frame (never making a zero).
   size_t second = 0, zeros = 0;
@@ -254,8 +254,8 @@ void a_restarted_host_is_a_new_peer_not_lost_frames(void **) {
   for (uint32_t first : firsts) {
     pv_link_init(&tx, first);  // one frame from each "host"
     const pitvol_Message m = status(first);
-    pv_link_send(&tx, &m, PV_LINK_RELIABLE, nullptr);
-    pv_link_tx_flush(&tx, write_all, &wire);
+    assert_int_equal(pv_link_send(&tx, &m, PV_LINK_RELIABLE, nullptr), PV_LINK_OK);
+    assert_int_equal(pv_link_tx_flush(&tx, write_all, &wire), PV_LINK_OK);
   }
   const auto got = feed_all(&rx, wire, 7);
   assert_int_equal(got.size(), 4);
@@ -275,9 +275,9 @@ void line_noise_every_corrupt_frame_is_counted(void **) {
   std::set<Bytes> bodies;
   for (uint32_t i = 0; i < 2000; ++i) {
     const pitvol_Message m = i % 3 ? status(i) : result(i);
-    pv_link_send(&tx, &m, PV_LINK_RELIABLE, nullptr);
+    assert_int_equal(pv_link_send(&tx, &m, PV_LINK_RELIABLE, nullptr), PV_LINK_OK);
     const size_t from = clean.size();
-    pv_link_tx_flush(&tx, write_all, &clean);
+    assert_int_equal(pv_link_tx_flush(&tx, write_all, &clean), PV_LINK_OK);
     bodies.insert(Bytes(clean.begin() + long(from) + 1, clean.end() - 1));
   }
   Bytes noisy;
@@ -319,7 +319,8 @@ void status_is_replaced_and_dropped_results_never(void **) {
   // Three statuses in a row: only the newest waits.
   for (uint64_t p = 1; p <= 3; ++p) {
     const pitvol_Message s = status(p);
-    assert_int_equal(pv_link_send(&l, &s, PV_LINK_LOSSY, nullptr), PV_LINK_OK);
+    const pv_link_status_t st = pv_link_send(&l, &s, PV_LINK_LOSSY, nullptr);
+    assert_true(st == PV_LINK_OK || st == PV_LINK_DROPPED);  // lossy: a full queue drops it
   }
   assert_int_equal(l.tx_count, 1);
   assert_int_equal(l.stats.lossy_dropped, 2);
@@ -339,7 +340,7 @@ void status_is_replaced_and_dropped_results_never(void **) {
   static pv_link_t rx;
   pv_link_init(&rx, 0);
   Bytes wire;
-  pv_link_tx_flush(&l, write_all, &wire);
+  assert_int_equal(pv_link_tx_flush(&l, write_all, &wire), PV_LINK_OK);
   const auto got = feed_all(&rx, wire, wire.size());
   assert_int_equal(got.size(), PV_LINK_TX_SLOTS);
   for (uint32_t i = 0; i < PV_LINK_TX_SLOTS; ++i) {
@@ -369,14 +370,17 @@ void a_slow_host_loses_statuses_but_no_result(void **) {
   uint32_t next_id = 1;
   for (int tick = 0; tick < 5000; ++tick) {
     const pitvol_Message s = status(uint64_t(tick));
-    pv_link_send(&l, &s, PV_LINK_LOSSY, nullptr);
+    const pv_link_status_t st = pv_link_send(&l, &s, PV_LINK_LOSSY, nullptr);
+    assert_true(st == PV_LINK_OK || st == PV_LINK_DROPPED);  // lossy: a full queue drops it
     if (tick % 3 == 0 && next_id <= 500) {  // a result is due; retry while full
       const pitvol_Message r = result(next_id);
       if (pv_link_send(&l, &r, PV_LINK_RELIABLE, nullptr) == PV_LINK_OK) next_id++;
     }
-    if (tick % 2) pv_link_tx_flush(&l, write_some, &host);
+    if (tick % 2) assert_int_equal(pv_link_tx_flush(&l, write_some, &host), PV_LINK_OK);
   }
-  while (pv_link_tx_pending(&l)) pv_link_tx_flush(&l, write_some, &host);
+  while (pv_link_tx_pending(&l)) {
+    assert_int_equal(pv_link_tx_flush(&l, write_some, &host), PV_LINK_OK);
+  }
   assert_int_equal(next_id, 501);
   const auto got = feed_all(&rx, host.out, 4096);
   uint32_t want = 1;
@@ -398,9 +402,9 @@ void a_repeated_command_is_answered_again_not_handed_on(void **) {
   const pitvol_Message cmd = get_results(1);
   Bytes wire;
   uint32_t seq = 0;
-  pv_link_send(&host, &cmd, PV_LINK_RELIABLE, &seq);
+  assert_int_equal(pv_link_send(&host, &cmd, PV_LINK_RELIABLE, &seq), PV_LINK_OK);
   assert_int_equal(seq, 41);
-  pv_link_tx_flush(&host, write_all, &wire);
+  assert_int_equal(pv_link_tx_flush(&host, write_all, &wire), PV_LINK_OK);
   // The first copy reaches the board, which answers.
   auto got = feed_all(&board, wire, wire.size());
   assert_int_equal(got.size(), 1);
@@ -413,13 +417,13 @@ void a_repeated_command_is_answered_again_not_handed_on(void **) {
   // very same bytes.
   Bytes again;
   assert_int_equal(pv_link_send_again(&host, &cmd, 41), PV_LINK_OK);
-  pv_link_tx_flush(&host, write_all, &again);
+  assert_int_equal(pv_link_tx_flush(&host, write_all, &again), PV_LINK_OK);
   assert_true(again == wire);
   got = feed_all(&board, again, again.size());
   assert_int_equal(got.size(), 0);
   assert_int_equal(board.stats.commands_duplicate, 2);
   Bytes back;
-  pv_link_tx_flush(&board, write_all, &back);
+  assert_int_equal(pv_link_tx_flush(&board, write_all, &back), PV_LINK_OK);
   const auto acks = feed_all(&host, back, back.size());
   assert_int_equal(acks.size(), 2);
   for (const auto &a : acks) {
@@ -429,8 +433,8 @@ void a_repeated_command_is_answered_again_not_handed_on(void **) {
   }
   // The next command (new seq) goes through.
   Bytes wire2;
-  pv_link_send(&host, &cmd, PV_LINK_RELIABLE, &seq);
-  pv_link_tx_flush(&host, write_all, &wire2);
+  assert_int_equal(pv_link_send(&host, &cmd, PV_LINK_RELIABLE, &seq), PV_LINK_OK);
+  assert_int_equal(pv_link_tx_flush(&host, write_all, &wire2), PV_LINK_OK);
   got = feed_all(&board, wire2, wire2.size());
   assert_int_equal(got.size(), 1);
   assert_int_equal(got[0].seq, 42);
@@ -499,10 +503,11 @@ void an_answer_refused_by_a_full_queue_still_answers_the_repeat(void **) {
   }
   assert_int_equal(pv_link_ack(&board, 77, 1, 8, 8), PV_LINK_QUEUE_FULL);
   Bytes out;
-  pv_link_tx_flush(&board, write_all, &out);  // the host reads; room again
+  // The host reads; room again.
+  assert_int_equal(pv_link_tx_flush(&board, write_all, &out), PV_LINK_OK);
   assert_int_equal(feed_all(&board, wire, wire.size()).size(), 0);  // the repeat
   out.clear();
-  pv_link_tx_flush(&board, write_all, &out);
+  assert_int_equal(pv_link_tx_flush(&board, write_all, &out), PV_LINK_OK);
   static pv_link_t host;
   pv_link_init(&host, 0);
   const auto back = feed_all(&host, out, out.size());

@@ -4,6 +4,7 @@
 #define PV_TESTS_SESSION_SUPPORT_H
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <vector>
 
@@ -23,7 +24,7 @@ struct TestSession {
   explicit TestSession(const pv_config_t &cfg_in) : cfg(cfg_in) { open(nullptr); }
   TestSession(const pv_config_t &cfg_in, float fill) : cfg(cfg_in) { open(&fill); }
   ~TestSession() { std::free(block); }
-  pv_status_t push_all(const std::vector<pv_point_t> &pts, size_t batch) {
+  [[nodiscard]] pv_status_t push_all(const std::vector<pv_point_t> &pts, size_t batch) {
     for (size_t i = 0; i < pts.size(); i += batch) {
       const size_t n = pts.size() - i < batch ? pts.size() - i : batch;
       const pv_status_t st = pv_session_push(s, pts.data() + i, n);
@@ -38,12 +39,21 @@ struct TestSession {
     if (tweak != nullptr) tweak(&cfg);
     open(fill);
   }
+  // A test's session must open: anything else is a broken test set-up, not
+  // a result to check. Aborts (a failed test) because cmocka's asserts are
+  // not declared yet here (pv_cmocka.h comes last).
+  static void require(pv_status_t st, const char *what) {
+    if (st == PV_OK) return;
+    std::fprintf(stderr, "TestSession: %s: %s\n", what, pv_status_name(st));
+    std::abort();
+  }
   void open(const float *fill) {
-    pv_session_size(&cfg, &bytes);
+    require(pv_session_size(&cfg, &bytes), "pv_session_size");
     const size_t rounded = (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN;
     block = std::aligned_alloc(PV_BLOCK_ALIGN, rounded);
+    if (block == nullptr) require(PV_ERR_OUT_OF_MEMORY, "aligned_alloc");
     if (fill != nullptr) std::fill_n(static_cast<float *>(block), rounded / sizeof(float), *fill);
-    pv_session_init(&cfg, block, bytes, &s);
+    require(pv_session_init(&cfg, block, bytes, &s), "pv_session_init");
   }
 };
 

@@ -41,7 +41,7 @@ Outcome measure(const std::vector<pv_point_t> &pts) {
   pv_config_default(&cfg);
   cfg.method = g_method;
   TestSession t(cfg);
-  t.push_all(pts, 4096);
+  assert_int_equal(t.push_all(pts, 4096), PV_OK);
   Outcome o{};
   o.status = pv_session_finish(t.s, &o.r);
   return o;

@@ -50,7 +50,7 @@ void measures_pits_of_other_shapes_and_poses(void **) {
     // A scanner frame that may be upside down: no opening direction check.
     void (*any_frame)(pv_config_t *) = [](pv_config_t *cfg) { cfg->max_opening_tilt_deg = 180.0f; };
     TestSession t(c.flip ? any_frame : nullptr);
-    t.push_all(scan_points(spec, 300000), 10000);
+    assert_int_equal(t.push_all(scan_points(spec, 300000), 10000), PV_OK);
     pv_result_t r;
     const pv_status_t st = pv_session_finish(t.s, &r);
     if (st != PV_OK) {
@@ -68,11 +68,11 @@ void shuffled_input_gives_the_same_volume(void **) {
   spec.seed = 3;
   std::vector<pv_point_t> pts = scan_points(spec, 250000);
   TestSession a, b;
-  a.push_all(pts, 4096);
+  assert_int_equal(a.push_all(pts, 4096), PV_OK);
   // A deterministic shuffle (Fisher-Yates on a fixed generator).
   pv::SplitMix64 g{99};
   for (size_t i = pts.size() - 1; i > 0; --i) std::swap(pts[i], pts[g.next() % (i + 1)]);
-  b.push_all(pts, 777);
+  assert_int_equal(b.push_all(pts, 777), PV_OK);
   pv_result_t ra, rb;
   assert_int_equal(pv_session_finish(a.s, &ra), PV_OK);
   assert_int_equal(pv_session_finish(b.s, &rb), PV_OK);
@@ -85,12 +85,12 @@ void same_input_same_bits_and_reset_reuses_the_block(void **) {
   spec.seed = 5;
   const std::vector<pv_point_t> pts = scan_points(spec, 200000);
   TestSession t;
-  t.push_all(pts, 4096);
+  assert_int_equal(t.push_all(pts, 4096), PV_OK);
   pv_result_t r1, r2;
   assert_int_equal(pv_session_finish(t.s, &r1), PV_OK);
   assert_int_equal(pv_session_push(t.s, pts.data(), 1), PV_ERR_WRONG_STATE);
   assert_int_equal(pv_session_reset(t.s), PV_OK);
-  t.push_all(pts, 4096);
+  assert_int_equal(t.push_all(pts, 4096), PV_OK);
   assert_int_equal(pv_session_finish(t.s, &r2), PV_OK);
   assert_memory_equal(&r1.volume_cm3, &r2.volume_cm3, sizeof(double));
   assert_memory_equal(&r1.depth_mm, &r2.depth_mm, sizeof(double));
@@ -102,9 +102,9 @@ void estimate_while_streaming_then_finish(void **) {
   const std::vector<pv_point_t> pts = scan_points(spec, 300000);
   TestSession t;
   pv_result_t early, final_r;
-  t.push_all(std::vector<pv_point_t>(pts.begin(), pts.begin() + 150000), 4096);
+  assert_int_equal(t.push_all(std::vector<pv_point_t>(pts.begin(), pts.begin() + 150000), 4096), PV_OK);
   assert_int_equal(pv_session_estimate(t.s, &early), PV_OK);
-  t.push_all(std::vector<pv_point_t>(pts.begin() + 150000, pts.end()), 4096);
+  assert_int_equal(t.push_all(std::vector<pv_point_t>(pts.begin() + 150000, pts.end()), 4096), PV_OK);
   assert_int_equal(pv_session_finish(t.s, &final_r), PV_OK);
   const double truth = pv::synth::exact_volume_cm3(spec);
   assert_true(std::fabs(rel_err(early.volume_cm3, truth)) < 0.01);
@@ -127,13 +127,13 @@ void estimate_during_warmup_changes_nothing(void **) {
   const std::vector<pv_point_t> pts = scan_points(spec, 200000);
   TestSession plain, probed;
   pv_result_t a, b, e;
-  plain.push_all(pts, 4096);
+  assert_int_equal(plain.push_all(pts, 4096), PV_OK);
   assert_int_equal(pv_session_finish(plain.s, &a), PV_OK);
   assert_int_equal(pv_session_estimate(probed.s, &e), PV_ERR_TOO_FEW_POINTS);
-  probed.push_all(std::vector<pv_point_t>(pts.begin(), pts.begin() + 5000), 4096);
+  assert_int_equal(probed.push_all(std::vector<pv_point_t>(pts.begin(), pts.begin() + 5000), 4096), PV_OK);
   assert_int_equal(pv_session_estimate(probed.s, &e), PV_ERR_TOO_FEW_POINTS);
   assert_int_equal(int(e.points_in), 5000);
-  probed.push_all(std::vector<pv_point_t>(pts.begin() + 5000, pts.end()), 4096);
+  assert_int_equal(probed.push_all(std::vector<pv_point_t>(pts.begin() + 5000, pts.end()), 4096), PV_OK);
   assert_int_equal(pv_session_finish(probed.s, &b), PV_OK);
   assert_memory_equal(&a.volume_cm3, &b.volume_cm3, sizeof(double));
   assert_int_equal(int(a.points_out_of_range), int(b.points_out_of_range));
@@ -146,7 +146,7 @@ void invalid_points_are_counted_and_skipped(void **) {
   pts[7].z_mm = INFINITY;
   pts[8].x_mm = 5e9f;
   TestSession t;
-  t.push_all(pts, 4096);
+  assert_int_equal(t.push_all(pts, 4096), PV_OK);
   pv_result_t r;
   assert_int_equal(pv_session_finish(t.s, &r), PV_OK);
   assert_int_equal(r.points_invalid, 202);
@@ -161,14 +161,14 @@ void a_scan_that_cannot_be_measured_says_why(void **) {
   assert_int_equal(pv_session_finish(t.s, &r), PV_ERR_TOO_FEW_POINTS);
   assert_int_equal(r.status, PV_ERR_TOO_FEW_POINTS);
   // A flat plate: a plane, but no walls and no rim.
-  pv_session_reset(t.s);
+  assert_int_equal(pv_session_reset(t.s), PV_OK);
   std::vector<pv_point_t> plate;
   pv::SplitMix64 g{1};
   for (int i = 0; i < 50000; ++i) {
     plate.push_back(pv_point_t{float(g.next() % 20000) * 0.01f, float(g.next() % 20000) * 0.01f,
                                float(g.next() % 100) * 0.001f});
   }
-  t.push_all(plate, 4096);
+  assert_int_equal(t.push_all(plate, 4096), PV_OK);
   const pv_status_t st = pv_session_finish(t.s, &r);
   assert_true(st == PV_ERR_NO_RIM || st == PV_ERR_TOO_FEW_LAYERS);
   assert_true(std::strlen(pv_status_message(st)) > 20);
@@ -176,8 +176,8 @@ void a_scan_that_cannot_be_measured_says_why(void **) {
   pv::synth::PitSpec deep;
   deep.depth_mm = 1050;
   deep.ground_width_mm = 60;
-  pv_session_reset(t.s);
-  t.push_all(scan_points(deep, 200000), 4096);
+  assert_int_equal(pv_session_reset(t.s), PV_OK);
+  assert_int_equal(t.push_all(scan_points(deep, 200000), 4096), PV_OK);
   assert_int_equal(pv_session_finish(t.s, &r), PV_ERR_DEPTH_EXCEEDS_CAPACITY);
 }
 
@@ -196,7 +196,7 @@ void deep_and_wide_pits_measure(void **) {
   wide.tilt_deg = 5.0;
   for (const pv::synth::PitSpec &spec : {deep, wide}) {
     TestSession t;
-    t.push_all(scan_points(spec, 400000), 4096);
+    assert_int_equal(t.push_all(scan_points(spec, 400000), 4096), PV_OK);
     pv_result_t r;
     const pv_status_t st = pv_session_finish(t.s, &r);
     if (st != PV_OK) {

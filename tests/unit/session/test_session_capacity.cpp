@@ -34,8 +34,8 @@ void mcu_profile_measures_like_the_default(void **) {
   spec.seed = 4;
   const std::vector<pv_point_t> pts = scan_points(spec, 300000);
   TestSession def, mcu(mcu_profile);
-  def.push_all(pts, 4096);
-  mcu.push_all(pts, 4096);
+  assert_int_equal(def.push_all(pts, 4096), PV_OK);
+  assert_int_equal(mcu.push_all(pts, 4096), PV_OK);
   pv_result_t a, b;
   assert_int_equal(pv_session_finish(def.s, &a), PV_OK);
   assert_int_equal(pv_session_finish(mcu.s, &b), PV_OK);
@@ -54,11 +54,11 @@ void estimate_then_more_points_gives_the_same_bits(void (*tweak)(pv_config_t *))
   const std::vector<pv_point_t> pts = scan_points(spec, 200000);
   TestSession plain(tweak), probed(tweak);
   pv_result_t a, b, e;
-  plain.push_all(pts, 4096);
+  assert_int_equal(plain.push_all(pts, 4096), PV_OK);
   assert_int_equal(pv_session_finish(plain.s, &a), PV_OK);
-  probed.push_all(std::vector<pv_point_t>(pts.begin(), pts.begin() + 60000), 4096);
+  assert_int_equal(probed.push_all(std::vector<pv_point_t>(pts.begin(), pts.begin() + 60000), 4096), PV_OK);
   assert_int_equal(pv_session_estimate(probed.s, &e), PV_OK);
-  probed.push_all(std::vector<pv_point_t>(pts.begin() + 60000, pts.end()), 4096);
+  assert_int_equal(probed.push_all(std::vector<pv_point_t>(pts.begin() + 60000, pts.end()), 4096), PV_OK);
   assert_int_equal(pv_session_finish(probed.s, &b), PV_OK);
   assert_memory_equal(&a.volume_cm3, &b.volume_cm3, sizeof(double));
   assert_memory_equal(&a.interval_cm3, &b.interval_cm3, sizeof(double));

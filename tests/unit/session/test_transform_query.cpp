@@ -16,12 +16,12 @@ struct MethodSession {
   explicit MethodSession(pv_method_t m) {
     pv_config_default(&cfg);
     cfg.method = m;
-    pv_session_size(&cfg, &bytes);
+    assert_int_equal(pv_session_size(&cfg, &bytes), PV_OK);
     block = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
     assert_int_equal(pv_session_init(&cfg, block, bytes, &s), PV_OK);
   }
   ~MethodSession() { std::free(block); }
-  pv_status_t push_all(const std::vector<pv_point_t> &pts) {
+  [[nodiscard]] pv_status_t push_all(const std::vector<pv_point_t> &pts) {
     return pv_session_push(s, pts.data(), pts.size());
   }
 };

@@ -43,11 +43,11 @@ Scan simulate(Family family, bool ground, uint64_t seed) {
 // the scanner's frame, in frames of 4096 points.
 pv_status_t measure(const Scan &s, bool doubled, float dx, float dy, float dz, pv_result_t *r) {
   TestSession session;
-  session.push_all(s.points, 4096);
+  assert_int_equal(session.push_all(s.points, 4096), PV_OK);
   if (doubled) {
     std::vector<pv_point_t> copy = s.points;
     for (pv_point_t &p : copy) p = pv_point_t{p.x_mm + dx, p.y_mm + dy, p.z_mm + dz};
-    session.push_all(copy, 4096);
+    assert_int_equal(session.push_all(copy, 4096), PV_OK);
   }
   return pv_session_finish(session.s, r);
 }

@@ -15,6 +15,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "pitvol/status_codes.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -46,7 +48,8 @@ typedef struct pv_font {
 
 /* Parses a PSF2 font (uncompressed). 0 on success, else -1 and a reason in
  * *why (static text). Uses the font's Unicode table when it has one. */
-int pv_font_parse_psf2(pv_font_t *f, const uint8_t *data, size_t len, const char **why);
+PV_NODISCARD int pv_font_parse_psf2(pv_font_t *f, const uint8_t *data, size_t len,
+                                    const char **why);
 
 typedef struct pv_canvas {
   uint8_t *px;          /* width * height palette indices, row-major */
@@ -59,8 +62,8 @@ typedef struct pv_canvas {
 /* Bytes of memory a canvas needs (pixels + text_cap of text log). */
 size_t pv_canvas_bytes(uint16_t width, uint16_t height, size_t text_cap);
 /* Lays the canvas out in mem (pv_canvas_bytes bytes). 0 or -1. */
-int pv_canvas_init(pv_canvas_t *c, uint16_t width, uint16_t height, size_t text_cap, void *mem,
-                   size_t bytes);
+PV_NODISCARD int pv_canvas_init(pv_canvas_t *c, uint16_t width, uint16_t height, size_t text_cap,
+                                void *mem, size_t bytes);
 
 /* Clears pixels and the text log. */
 void pv_canvas_clear(pv_canvas_t *c, pv_color_t ground);

@@ -19,6 +19,7 @@
 #include <stdint.h>
 
 #include "pitvol/canvas.h"
+#include "pitvol/status_codes.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -27,12 +28,12 @@ extern "C" {
 typedef struct pv_display pv_display_t;
 
 /* 0 on success; else -1 with a sentence in err (what failed, what to do). */
-int pv_display_open(pv_display_t **out, const char *spec, uint16_t width, uint16_t height,
-                    char *err, size_t errcap);
+PV_NODISCARD int pv_display_open(pv_display_t **out, const char *spec, uint16_t width,
+                                 uint16_t height, char *err, size_t errcap);
 /* Shows the canvas; screen names the screen (file name in the PNG backend).
  * 0 or -1 with a sentence in err. */
-int pv_display_present(pv_display_t *d, const pv_canvas_t *c, const char *screen, char *err,
-                       size_t errcap);
+PV_NODISCARD int pv_display_present(pv_display_t *d, const pv_canvas_t *c, const char *screen,
+                                    char *err, size_t errcap);
 void pv_display_close(pv_display_t *d);
 
 /* Framebuffer pixel layout: one colour channel's bit offset and length. */
@@ -46,7 +47,8 @@ typedef struct pv_fb_format {
 /* Converts the canvas into a framebuffer of that layout (line_bytes per
  * row); the fbdev backend's present(), exposed for tests. 0 or -1 if the
  * layout is not supported. */
-int pv_fb_blit(const pv_canvas_t *c, const pv_fb_format_t *fmt, uint8_t *fb, size_t line_bytes);
+PV_NODISCARD int pv_fb_blit(const pv_canvas_t *c, const pv_fb_format_t *fmt, uint8_t *fb,
+                            size_t line_bytes);
 
 #ifdef __cplusplus
 }

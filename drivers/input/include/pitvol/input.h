@@ -22,6 +22,8 @@
 
 #include <stddef.h>
 
+#include "pitvol/status_codes.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -36,12 +38,13 @@ typedef enum pv_key {
 typedef struct pv_input pv_input_t;
 
 /* 0 on success; else -1 with a sentence in err. */
-int pv_input_open(pv_input_t **out, const char *spec, char *err, size_t errcap);
+PV_NODISCARD int pv_input_open(pv_input_t **out, const char *spec, char *err, size_t errcap);
 /* The descriptor to poll for POLLIN, or -1 for "none". */
 int pv_input_fd(const pv_input_t *in);
 /* Reads what is pending without blocking; writes up to cap keys, returns
  * how many. Returns -1 if the device went away (err says so). */
-int pv_input_read(pv_input_t *in, pv_key_t *keys, size_t cap, char *err, size_t errcap);
+PV_NODISCARD int pv_input_read(pv_input_t *in, pv_key_t *keys, size_t cap, char *err,
+                               size_t errcap);
 void pv_input_close(pv_input_t *in);
 const char *pv_key_name(pv_key_t k);
 

@@ -13,6 +13,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "pitvol/status_codes.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -43,19 +45,20 @@ int pv_serial_baud_supported(uint32_t baud);
 
 /* Opens path, sets raw 8N1 at baud, no flow control, non-blocking, and
  * discards bytes that were waiting from before. */
-pv_serial_status_t pv_serial_open(pv_serial_t *port, const char *path, uint32_t baud);
+PV_NODISCARD pv_serial_status_t pv_serial_open(pv_serial_t *port, const char *path, uint32_t baud);
 /* Takes over an open terminal fd (e.g. from openpty) and configures it the
  * same way; the port closes it. */
-pv_serial_status_t pv_serial_adopt(pv_serial_t *port, int fd, uint32_t baud);
+PV_NODISCARD pv_serial_status_t pv_serial_adopt(pv_serial_t *port, int fd, uint32_t baud);
 void pv_serial_close(pv_serial_t *port);
 
 /* The fd to poll. */
 int pv_serial_fd(const pv_serial_t *port);
 
 /* Never blocks. *got / *written: bytes moved, 0 if none would move now. */
-pv_serial_status_t pv_serial_read(pv_serial_t *port, void *buf, size_t cap, size_t *got);
-pv_serial_status_t pv_serial_write(pv_serial_t *port, const void *data, size_t len,
-                                   size_t *written);
+PV_NODISCARD pv_serial_status_t pv_serial_read(pv_serial_t *port, void *buf, size_t cap,
+                                               size_t *got);
+PV_NODISCARD pv_serial_status_t pv_serial_write(pv_serial_t *port, const void *data, size_t len,
+                                                size_t *written);
 
 #ifdef __cplusplus
 }

@@ -31,6 +31,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "pitvol/status_codes.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -94,12 +96,13 @@ typedef struct pv_log {
 } pv_log_t;
 
 /* Opens (creating if needed) the log in directory dir and recovers it. */
-pv_log_status_t pv_log_open(pv_log_t *log, const char *dir, const pv_log_config_t *cfg);
+PV_NODISCARD pv_log_status_t pv_log_open(pv_log_t *log, const char *dir,
+                                         const pv_log_config_t *cfg);
 void pv_log_close(pv_log_t *log);
 
 /* Appends one record and makes it durable (fsync). seq_out may be NULL. */
-pv_log_status_t pv_log_append(pv_log_t *log, const void *payload, size_t len,
-                              uint32_t *seq_out);
+PV_NODISCARD pv_log_status_t pv_log_append(pv_log_t *log, const void *payload, size_t len,
+                                           uint32_t *seq_out);
 
 /* Oldest and newest record numbers (0, 0 when empty). */
 uint32_t pv_log_first_seq(const pv_log_t *log);
@@ -116,11 +119,12 @@ typedef struct pv_log_cursor {
   uint32_t offset;     /* byte offset of the next record in it */
 } pv_log_cursor_t;
 
-pv_log_status_t pv_log_seek(const pv_log_t *log, uint32_t from_seq, pv_log_cursor_t *cur);
+PV_NODISCARD pv_log_status_t pv_log_seek(const pv_log_t *log, uint32_t from_seq,
+                                         pv_log_cursor_t *cur);
 /* PV_LOG_OK (one record in buf), PV_LOG_END, PV_LOG_ERR_CORRUPT, _IO or
  * _TOO_LARGE (cap smaller than the record). */
-pv_log_status_t pv_log_next(pv_log_t *log, pv_log_cursor_t *cur, void *buf, size_t cap,
-                            uint32_t *seq_out, size_t *len_out);
+PV_NODISCARD pv_log_status_t pv_log_next(pv_log_t *log, pv_log_cursor_t *cur, void *buf, size_t cap,
+                                         uint32_t *seq_out, size_t *len_out);
 
 #ifdef __cplusplus
 }

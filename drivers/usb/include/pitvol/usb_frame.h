@@ -25,6 +25,7 @@
 #include <stdint.h>
 
 #include "pitvol/crc32c.h"
+#include "pitvol/status_codes.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -63,16 +64,16 @@ typedef enum pv_usb_parse {
 /* Writes one frame into out (cap bytes). Returns the bytes written, or 0 if
  * cap < PV_USB_FRAME_BYTES(h->point_count) or the count is too large.
  * points: point_count x 3 floats (x, y, z). */
-size_t pv_usb_frame_encode(uint8_t *out, size_t cap, const pv_usb_frame_header_t *h,
-                           const float *points);
+PV_NODISCARD size_t pv_usb_frame_encode(uint8_t *out, size_t cap, const pv_usb_frame_header_t *h,
+                                        const float *points);
 
 /* Parses and checks the header at buf (len bytes available). */
-pv_usb_parse_t pv_usb_frame_parse_header(const uint8_t *buf, size_t len,
-                                         pv_usb_frame_header_t *out);
+PV_NODISCARD pv_usb_parse_t pv_usb_frame_parse_header(const uint8_t *buf, size_t len,
+                                                      pv_usb_frame_header_t *out);
 
 /* 1 if the CRC of the whole frame at buf (PV_USB_FRAME_BYTES(count) bytes)
  * matches, else 0. */
-int pv_usb_frame_crc_ok(const uint8_t *buf, uint16_t point_count);
+PV_NODISCARD int pv_usb_frame_crc_ok(const uint8_t *buf, uint16_t point_count);
 
 /* Point i of a checked frame, decoded from the wire (no alignment needed). */
 void pv_usb_frame_point(const uint8_t *frame, uint16_t i, float xyz_out[3]);

@@ -28,6 +28,7 @@
 #include <stdint.h>
 
 #include "pitvol/usb_stream.h"
+#include "pitvol/status_codes.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -75,16 +76,16 @@ typedef struct pv_usb_scanner_stats {
 typedef struct pv_usb_scanner pv_usb_scanner_t;
 
 /* on_points receives every accepted frame's good points. */
-pv_usb_status_t pv_usb_scanner_open(pv_usb_scanner_t **out, pv_usb_points_fn on_points,
-                                    void *user);
+PV_NODISCARD pv_usb_status_t pv_usb_scanner_open(pv_usb_scanner_t **out, pv_usb_points_fn on_points,
+                                                 void *user);
 /* For the board application (firmware/): the scanner with these ids; if
  * wait_if_absent and no such scanner is attached, open succeeds anyway in
  * PV_USB_STATE_UNPLUGGED and poll() picks the scanner up when it arrives
  * (state IDLE). pv_usb_scanner_open() is this with the ids above and
  * wait_if_absent 0. */
-pv_usb_status_t pv_usb_scanner_open_ids(pv_usb_scanner_t **out, uint16_t vendor_id,
-                                        uint16_t product_id, int wait_if_absent,
-                                        pv_usb_points_fn on_points, void *user);
+PV_NODISCARD pv_usb_status_t pv_usb_scanner_open_ids(pv_usb_scanner_t **out, uint16_t vendor_id,
+                                                     uint16_t product_id, int wait_if_absent,
+                                                     pv_usb_points_fn on_points, void *user);
 /* For a caller's own poll() loop (the board's event loop): copies up to cap
  * of the libusb descriptors to watch into fds and returns their count; sets
  * *timeout_ms to the longest the caller may sleep before calling
@@ -93,10 +94,10 @@ pv_usb_status_t pv_usb_scanner_open_ids(pv_usb_scanner_t **out, uint16_t vendor_
  * kept up to date by libusb's pollfd notifiers. */
 size_t pv_usb_scanner_pollfds(pv_usb_scanner_t *s, struct pollfd *fds, size_t cap,
                               int *timeout_ms);
-pv_usb_status_t pv_usb_scanner_start(pv_usb_scanner_t *s);
+PV_NODISCARD pv_usb_status_t pv_usb_scanner_start(pv_usb_scanner_t *s);
 /* Handles USB events for up to timeout_ms; returns the state after. */
 pv_usb_state_t pv_usb_scanner_poll(pv_usb_scanner_t *s, int timeout_ms);
-pv_usb_status_t pv_usb_scanner_stop(pv_usb_scanner_t *s);
+PV_NODISCARD pv_usb_status_t pv_usb_scanner_stop(pv_usb_scanner_t *s);
 void pv_usb_scanner_get_stats(const pv_usb_scanner_t *s, pv_usb_scanner_stats_t *out);
 void pv_usb_scanner_close(pv_usb_scanner_t *s);
 const char *pv_usb_status_message(pv_usb_status_t st);

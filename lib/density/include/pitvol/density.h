@@ -25,6 +25,8 @@
 
 #include <stdint.h>
 
+#include "pitvol/status_codes.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -87,7 +89,8 @@ const char *pv_density_status_message(pv_density_status_t status);
 
 /* Without a mass: PV_DENSITY_OK with flags 0 (nothing to compute). On an
  * error *out is all zero. */
-pv_density_status_t pv_density_compute(const pv_density_input_t *in, pv_density_t *out);
+PV_NODISCARD pv_density_status_t pv_density_compute(const pv_density_input_t *in,
+                                                    pv_density_t *out);
 
 /* The test's verdict against a required relative compaction: PASS when
  * the whole compaction range (the volume interval's image) reaches the

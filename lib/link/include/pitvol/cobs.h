@@ -10,6 +10,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "pitvol/status_codes.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -20,12 +22,13 @@ extern "C" {
 
 /* Encodes len bytes into out (cap bytes). Returns the encoded length (no
  * zero inside, no delimiter added), or 0 if cap is too small. */
-size_t pv_cobs_encode(const uint8_t *in, size_t len, uint8_t *out, size_t cap);
+PV_NODISCARD size_t pv_cobs_encode(const uint8_t *in, size_t len, uint8_t *out, size_t cap);
 
 /* Decodes len encoded bytes (no delimiter) into out (cap bytes). Returns the
  * decoded length; sets *ok to 0 (and returns 0) if the input holds a zero,
  * a code byte points past the end, or out is too small. */
-size_t pv_cobs_decode(const uint8_t *in, size_t len, uint8_t *out, size_t cap, int *ok);
+PV_NODISCARD size_t pv_cobs_decode(const uint8_t *in, size_t len, uint8_t *out, size_t cap,
+                                   int *ok);
 
 #ifdef __cplusplus
 }

@@ -34,6 +34,7 @@
 #include <stdint.h>
 
 #include "pitvol_link.pb.h"
+#include "pitvol/status_codes.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -130,26 +131,27 @@ void pv_link_init(pv_link_t *link, uint32_t first_seq);
 /* Encodes msg into the outgoing queue. seq_out (may be NULL) receives the
  * frame's sequence number. PV_LINK_OK, PV_LINK_DROPPED (lossy only),
  * PV_LINK_QUEUE_FULL (reliable only), PV_LINK_ENCODE_FAILED. */
-pv_link_status_t pv_link_send(pv_link_t *link, const pitvol_Message *msg,
-                              pv_link_class_t cls, uint32_t *seq_out);
+PV_NODISCARD pv_link_status_t pv_link_send(pv_link_t *link, const pitvol_Message *msg,
+                                           pv_link_class_t cls, uint32_t *seq_out);
 
 /* Queues msg again under the sequence number it was first sent with
  * (reliable): a host repeating a command whose answer did not come, so the
  * board can tell the repeat from a new command. */
-pv_link_status_t pv_link_send_again(pv_link_t *link, const pitvol_Message *msg, uint32_t seq);
+PV_NODISCARD pv_link_status_t pv_link_send_again(pv_link_t *link, const pitvol_Message *msg,
+                                                 uint32_t seq);
 
 /* Answers the command received in frame command_seq (reliable, and kept so
  * that a repeat of the command is answered again without reaching the
  * caller). first_id/last_id/sent_count: see pitvol.Ack. */
-pv_link_status_t pv_link_ack(pv_link_t *link, uint32_t command_seq, uint32_t first_id,
-                             uint32_t last_id, uint32_t sent_count);
-pv_link_status_t pv_link_nack(pv_link_t *link, uint32_t command_seq, pitvol_NackCode code,
-                              const char *reason);
+PV_NODISCARD pv_link_status_t pv_link_ack(pv_link_t *link, uint32_t command_seq, uint32_t first_id,
+                                          uint32_t last_id, uint32_t sent_count);
+PV_NODISCARD pv_link_status_t pv_link_nack(pv_link_t *link, uint32_t command_seq,
+                                           pitvol_NackCode code, const char *reason);
 /* The same for a ready Ack or Nack message (e.g. one held back until the
  * messages it follows have gone out). The answer is kept for repeats even
  * when this returns PV_LINK_QUEUE_FULL; call again after a flush. */
-pv_link_status_t pv_link_send_reply(pv_link_t *link, uint32_t command_seq,
-                                    const pitvol_Message *reply);
+PV_NODISCARD pv_link_status_t pv_link_send_reply(pv_link_t *link, uint32_t command_seq,
+                                                 const pitvol_Message *reply);
 
 /* 1 if frames wait to be written (poll for POLLOUT), else 0. */
 int pv_link_tx_pending(const pv_link_t *link);
@@ -160,7 +162,7 @@ uint32_t pv_link_tx_room(const pv_link_t *link);
  * an error. pv_link_tx_flush() calls it until the queue is empty or it
  * takes less than offered. */
 typedef long (*pv_link_write_fn)(void *ctx, const uint8_t *data, size_t len);
-pv_link_status_t pv_link_tx_flush(pv_link_t *link, pv_link_write_fn write, void *ctx);
+PV_NODISCARD pv_link_status_t pv_link_tx_flush(pv_link_t *link, pv_link_write_fn write, void *ctx);
 
 /* Feeds received bytes. Consumes bytes up to and including the first frame
  * that completes; if that frame is good, *got = 1 and *out holds it.
@@ -176,7 +178,8 @@ const char *pv_link_message_name(const pitvol_Message *msg);
 
 /* One frame without the queue (tests, tools): encodes msg with seq into
  * out (cap bytes, both delimiters included). Returns the length or 0. */
-size_t pv_link_encode_frame(const pitvol_Message *msg, uint32_t seq, uint8_t *out, size_t cap);
+PV_NODISCARD size_t pv_link_encode_frame(const pitvol_Message *msg, uint32_t seq, uint8_t *out,
+                                         size_t cap);
 
 #ifdef __cplusplus
 }

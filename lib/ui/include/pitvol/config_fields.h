@@ -33,8 +33,8 @@ const pv_config_field_t *pv_config_field_find(const char *name);
 /* Sets one setting from its text ("method" = surface|paper|polar too).
  * 0, or -1 with one line in err: "unknown setting 'x'", "layer_mm = 9 is
  * outside 0.1 .. 2", "'0,5' is not a number: write decimals with a point". */
-int pv_config_field_set(pv_config_t *cfg, const char *name, const char *value, char *err,
-                        size_t cap);
+PV_NODISCARD int pv_config_field_set(pv_config_t *cfg, const char *name, const char *value,
+                                     char *err, size_t cap);
 
 #ifdef __cplusplus
 }

@@ -10,6 +10,8 @@
 
 #include <stddef.h>
 
+#include "pitvol/status_codes.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -18,7 +20,7 @@ extern "C" {
  * most one decimal point, an optional exponent (1e3). Not hexadecimal
  * (0x10), not inf or nan, no thousands separators; a decimal comma (1,5)
  * is refused with a hint. 0, or -1 with a one-line reason in err. */
-int pv_parse_decimal(const char *text, double *out, char *err, size_t cap);
+PV_NODISCARD int pv_parse_decimal(const char *text, double *out, char *err, size_t cap);
 
 typedef enum pv_input_kind {
   PV_INPUT_MASS_G = 0,             /* wet mass of the excavated soil */
@@ -40,15 +42,16 @@ const pv_input_range_t *pv_input_range_of(pv_input_kind_t kind);
 
 /* 0 if v lies in the kind's range, else -1 with one line in err:
  * "mass 1e+308 g is outside 50 .. 100000 g (wet mass of the excavated soil)". */
-int pv_input_check(pv_input_kind_t kind, double v, char *err, size_t cap);
+PV_NODISCARD int pv_input_check(pv_input_kind_t kind, double v, char *err, size_t cap);
 
 /* pv_parse_decimal, then pv_input_check; err names the kind. */
-int pv_input_parse(pv_input_kind_t kind, const char *text, double *out, char *err, size_t cap);
+PV_NODISCARD int pv_input_parse(pv_input_kind_t kind, const char *text, double *out, char *err,
+                                size_t cap);
 
 /* Text a user typed for the record (test id, location, operator): printable
  * characters only, at most cap - 1 bytes. 0, or -1 with a reason. */
-int pv_input_text(const char *name, const char *text, char *out, size_t cap, char *err,
-                  size_t errcap);
+PV_NODISCARD int pv_input_text(const char *name, const char *text, char *out, size_t cap, char *err,
+                               size_t errcap);
 
 #ifdef __cplusplus
 }
