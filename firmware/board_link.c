@@ -26,7 +26,10 @@ _Static_assert(PV_DENSITY_UNBOUNDED == pitvol_DensityFlag_DENSITY_UNBOUNDED, "de
 _Static_assert(PV_COVERAGE_BANDS <= sizeof(((pitvol_Status *)0)->coverage) / sizeof(float),
                "Status.coverage holds every band");
 
-#define PV_BOARD_ERR_LOG 100 /* Error.code of a board fault: the result log refused */
+/* Error.code of a board fault: the result log refused. The first code of
+ * the board's range (pitvol/status_codes.h), on the wire since protocol 1. */
+#define PV_BOARD_ERR_LOG PV_STATUS_BASE_BOARD
+_Static_assert(PV_BOARD_ERR_LOG == 100, "Error.code 100 is the log fault on the wire");
 
 static long write_port(void *ctx, const uint8_t *data, size_t len) {
   pv_board_link_t *bl = (pv_board_link_t *)ctx;

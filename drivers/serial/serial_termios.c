@@ -7,6 +7,10 @@
 #include <termios.h>
 #include <unistd.h>
 
+_Static_assert(PV_SERIAL_ERR_INVALID_ARGUMENT > PV_STATUS_BASE_SERIAL &&
+                   PV_SERIAL_HANGUP < PV_STATUS_BASE_SERIAL + PV_STATUS_RANGE,
+               "pv_serial_status_t in its range (pitvol/status_codes.h)");
+
 const char *pv_serial_status_name(pv_serial_status_t status) {
   switch (status) {
     case PV_SERIAL_OK: return "PV_SERIAL_OK";

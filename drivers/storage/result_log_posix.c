@@ -15,6 +15,10 @@
 #include "pitvol/crc32c.h"
 #include "pitvol/le_bytes.h"
 
+_Static_assert(PV_LOG_END > PV_STATUS_BASE_LOG &&
+                   PV_LOG_ERR_CORRUPT < PV_STATUS_BASE_LOG + PV_STATUS_RANGE,
+               "pv_log_status_t in its range (pitvol/status_codes.h)");
+
 #define SEG_NAME_FMT "seg-%08u.pvlog"
 #define SEG_NAME_LEN 18 /* "seg-" + 8 digits + ".pvlog" */
 #define MAX_LISTED 1024u

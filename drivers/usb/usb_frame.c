@@ -5,6 +5,10 @@
 
 #include "pitvol/le_bytes.h"
 
+_Static_assert(PV_USB_PARSE_NEED_MORE > PV_STATUS_BASE_USB &&
+                   PV_USB_PARSE_BAD_FLAGS < PV_STATUS_BASE_USB + PV_STATUS_RANGE,
+               "pv_usb_parse_t in its range (pitvol/status_codes.h)");
+
 /* Floats travel as their IEEE-754 bit pattern, little endian. */
 static void put_f32(uint8_t *p, float f) {
   uint32_t v;
@@ -35,6 +39,31 @@ size_t pv_usb_frame_encode(uint8_t *out, size_t cap, const pv_usb_frame_header_t
   for (size_t i = 0; i < 3u * h->point_count; ++i, p += 4) put_f32(p, points[i]);
   pv_put_le32(p, pv_crc32c(0, out, bytes - PV_USB_CRC_BYTES));
   return bytes;
+}
+
+const char *pv_usb_parse_name(pv_usb_parse_t p) {
+  switch (p) {
+    case PV_USB_PARSE_OK: return "PV_USB_PARSE_OK";
+    case PV_USB_PARSE_NEED_MORE: return "PV_USB_PARSE_NEED_MORE";
+    case PV_USB_PARSE_BAD_MAGIC: return "PV_USB_PARSE_BAD_MAGIC";
+    case PV_USB_PARSE_BAD_VERSION: return "PV_USB_PARSE_BAD_VERSION";
+    case PV_USB_PARSE_BAD_COUNT: return "PV_USB_PARSE_BAD_COUNT";
+    case PV_USB_PARSE_BAD_FLAGS: return "PV_USB_PARSE_BAD_FLAGS";
+  }
+  return "PV_USB_PARSE_UNKNOWN";
+}
+
+const char *pv_usb_parse_message(pv_usb_parse_t p) {
+  switch (p) {
+    case PV_USB_PARSE_OK: return "a frame header";
+    case PV_USB_PARSE_NEED_MORE: return "not enough bytes for a frame header yet";
+    case PV_USB_PARSE_BAD_MAGIC: return "not a frame: the magic 'PVF1' is missing";
+    case PV_USB_PARSE_BAD_VERSION:
+      return "a frame of a protocol version this driver does not speak; update the board";
+    case PV_USB_PARSE_BAD_COUNT: return "a frame claims more points than a frame may hold";
+    case PV_USB_PARSE_BAD_FLAGS: return "a frame sets flag bits this driver does not know";
+  }
+  return "unknown frame parse result";
 }
 
 pv_usb_parse_t pv_usb_frame_parse_header(const uint8_t *buf, size_t len,

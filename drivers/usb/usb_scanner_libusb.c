@@ -28,6 +28,10 @@
 #include <string.h>
 #include <time.h>
 
+_Static_assert(PV_USB_ERR_INIT > PV_STATUS_BASE_USB &&
+                   PV_USB_ERR_STATE < PV_STATUS_BASE_USB + PV_STATUS_RANGE,
+               "pv_usb_status_t in its range (pitvol/status_codes.h)");
+
 #define PV_USB_TIMEOUT_MS 1000u      /* per bulk transfer */
 #define PV_USB_CONTROL_TIMEOUT_MS 1000u
 #define PV_USB_RESCAN_MS 100u        /* re-enumeration period without hotplug */
@@ -65,6 +69,19 @@ static uint64_t now_ms(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return (uint64_t)ts.tv_sec * 1000u + (uint64_t)ts.tv_nsec / 1000000u;
+}
+
+const char *pv_usb_status_name(pv_usb_status_t st) {
+  switch (st) {
+    case PV_USB_OK: return "PV_USB_OK";
+    case PV_USB_ERR_INIT: return "PV_USB_ERR_INIT";
+    case PV_USB_ERR_NOT_FOUND: return "PV_USB_ERR_NOT_FOUND";
+    case PV_USB_ERR_ACCESS: return "PV_USB_ERR_ACCESS";
+    case PV_USB_ERR_BUSY: return "PV_USB_ERR_BUSY";
+    case PV_USB_ERR_IO: return "PV_USB_ERR_IO";
+    case PV_USB_ERR_STATE: return "PV_USB_ERR_STATE";
+  }
+  return "PV_USB_ERR_UNKNOWN";
 }
 
 const char *pv_usb_status_message(pv_usb_status_t st) {

@@ -4,6 +4,10 @@
 #include <math.h>
 #include <string.h>
 
+_Static_assert(PV_DENSITY_ERR_INVALID_ARGUMENT > PV_STATUS_BASE_DENSITY &&
+                   PV_DENSITY_ERR_IMPLAUSIBLE < PV_STATUS_BASE_DENSITY + PV_STATUS_RANGE,
+               "pv_density_status_t in its range (pitvol/status_codes.h)");
+
 /* 1 g/cm3 = 1000 kg/m3. */
 #define KG_M3_PER_G_CM3 1000.0
 /* 1 lb/ft3 = 0.45359237 kg / 0.028316846592 m3 = 16.018463373960138 kg/m3. */

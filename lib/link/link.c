@@ -11,6 +11,10 @@
 #include "pitvol/crc32c.h"
 #include "pitvol/le_bytes.h"
 
+_Static_assert(PV_LINK_DROPPED > PV_STATUS_BASE_LINK &&
+                   PV_LINK_WRITE_FAILED < PV_STATUS_BASE_LINK + PV_STATUS_RANGE,
+               "pv_link_status_t in its range (pitvol/status_codes.h)");
+
 _Static_assert(PV_LINK_MAX_WIRE_BYTES < 0xffffu, "slot length is 16 bits");
 
 const char *pv_link_status_name(pv_link_status_t status) {

@@ -1,6 +1,16 @@
 /*
- * What every C module's status follows. Header only and free of
- * dependencies: the core and every module above it include it.
+ * How the C modules report failure (docs/errors.md).
+ *
+ * A function whose caller acts on the cause returns its module's status
+ * enum: 0 is success in every module, every other value lies in the
+ * module's range below, so a number in a log names its module. Each enum
+ * has a name function (the symbol) and a message function (what went wrong
+ * and what to do). A function whose failure can only be shown (opening the
+ * display, reading the board's configuration) returns 0 or -1 and writes
+ * that sentence into its err argument instead.
+ *
+ * Header only and free of dependencies: the core and every module above it
+ * include it.
  */
 #ifndef PITVOL_STATUS_CODES_H
 #define PITVOL_STATUS_CODES_H
@@ -16,5 +26,17 @@
 #else
 #define PV_NODISCARD
 #endif
+
+/* First code of each module's range of PV_STATUS_RANGE codes. The core's
+ * and the board's codes travel on the serial link (Result.status,
+ * Error.code: docs/protocol/serial.md) and never change. */
+#define PV_STATUS_RANGE 100
+#define PV_STATUS_BASE_CORE 0      /* pv_status_t (pitvol.h) */
+#define PV_STATUS_BASE_BOARD 100   /* the board's faults on the link (Error.code) */
+#define PV_STATUS_BASE_USB 200     /* pv_usb_status_t; pv_usb_parse_t from 251 */
+#define PV_STATUS_BASE_SERIAL 300  /* pv_serial_status_t */
+#define PV_STATUS_BASE_LOG 400     /* pv_log_status_t */
+#define PV_STATUS_BASE_LINK 500    /* pv_link_status_t */
+#define PV_STATUS_BASE_DENSITY 600 /* pv_density_status_t */
 
 #endif /* PITVOL_STATUS_CODES_H */

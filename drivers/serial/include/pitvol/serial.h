@@ -20,14 +20,15 @@ extern "C" {
 #endif
 
 typedef enum pv_serial_status {
+  /* 0, then 300 .. 399: PV_STATUS_BASE_SERIAL (pitvol/status_codes.h) */
   PV_SERIAL_OK = 0,
-  PV_SERIAL_ERR_INVALID_ARGUMENT = 1, /* NULL, or not open */
-  PV_SERIAL_ERR_OPEN = 2,      /* the device could not be opened (missing? permissions?) */
-  PV_SERIAL_ERR_NOT_A_TTY = 3, /* the path is not a terminal device */
-  PV_SERIAL_ERR_BAUD = 4,      /* the baud rate is not one termios offers */
-  PV_SERIAL_ERR_CONFIG = 5,    /* the port refused raw 8N1 settings */
-  PV_SERIAL_ERR_IO = 6,        /* a read or write failed */
-  PV_SERIAL_HANGUP = 7         /* the other side went away (cable, pty closed) */
+  PV_SERIAL_ERR_INVALID_ARGUMENT = 301, /* NULL, or not open */
+  PV_SERIAL_ERR_OPEN = 302,             /* the device could not be opened (missing? permissions?) */
+  PV_SERIAL_ERR_NOT_A_TTY = 303,        /* the path is not a terminal device */
+  PV_SERIAL_ERR_BAUD = 304,             /* the baud rate is not one termios offers */
+  PV_SERIAL_ERR_CONFIG = 305,           /* the port refused raw 8N1 settings */
+  PV_SERIAL_ERR_IO = 306,               /* a read or write failed */
+  PV_SERIAL_HANGUP = 307                /* the other side went away (cable, pty closed) */
 } pv_serial_status_t;
 
 const char *pv_serial_status_name(pv_serial_status_t status);

@@ -46,12 +46,13 @@ extern "C" {
 #define PV_LOG_PATH_MAX 512u
 
 typedef enum pv_log_status {
+  /* 0, then 400 .. 499: PV_STATUS_BASE_LOG (pitvol/status_codes.h) */
   PV_LOG_OK = 0,
-  PV_LOG_END = 1,                  /* cursor: no more records */
-  PV_LOG_ERR_INVALID_ARGUMENT = 2, /* NULL, a config out of range, a path too long */
-  PV_LOG_ERR_TOO_LARGE = 3,        /* payload > PV_LOG_MAX_PAYLOAD_BYTES or > a segment */
-  PV_LOG_ERR_IO = 4,               /* the file system refused (errno kept in the log) */
-  PV_LOG_ERR_CORRUPT = 5           /* a record read back does not match its CRC */
+  PV_LOG_END = 401,                  /* cursor: no more records */
+  PV_LOG_ERR_INVALID_ARGUMENT = 402, /* NULL, a config out of range, a path too long */
+  PV_LOG_ERR_TOO_LARGE = 403,        /* payload > PV_LOG_MAX_PAYLOAD_BYTES or > a segment */
+  PV_LOG_ERR_IO = 404,               /* the file system refused (errno kept in the log) */
+  PV_LOG_ERR_CORRUPT = 405           /* a record read back does not match its CRC */
 } pv_log_status_t;
 
 const char *pv_log_status_name(pv_log_status_t status);

@@ -51,13 +51,17 @@ typedef struct pv_usb_frame_header {
 } pv_usb_frame_header_t;
 
 typedef enum pv_usb_parse {
+  /* 0, then 251 .. 299: PV_STATUS_BASE_USB's upper half (pitvol/status_codes.h) */
   PV_USB_PARSE_OK = 0,
-  PV_USB_PARSE_NEED_MORE = 1,   /* fewer than PV_USB_HEADER_BYTES given */
-  PV_USB_PARSE_BAD_MAGIC = 2,
-  PV_USB_PARSE_BAD_VERSION = 3,
-  PV_USB_PARSE_BAD_COUNT = 4,   /* point_count > PV_USB_MAX_POINTS */
-  PV_USB_PARSE_BAD_FLAGS = 5    /* unknown flag bits set */
+  PV_USB_PARSE_NEED_MORE = 251, /* fewer than PV_USB_HEADER_BYTES given */
+  PV_USB_PARSE_BAD_MAGIC = 252,
+  PV_USB_PARSE_BAD_VERSION = 253,
+  PV_USB_PARSE_BAD_COUNT = 254, /* point_count > PV_USB_MAX_POINTS */
+  PV_USB_PARSE_BAD_FLAGS = 255  /* unknown flag bits set */
 } pv_usb_parse_t;
+/* "PV_USB_PARSE_BAD_MAGIC", ... and what it means. Never NULL. */
+const char *pv_usb_parse_name(pv_usb_parse_t p);
+const char *pv_usb_parse_message(pv_usb_parse_t p);
 
 /* pv_crc32c() (pitvol/crc32c.h) checks every frame. */
 

@@ -46,13 +46,14 @@ extern "C" {
 #define PV_USB_MAX_POLLFDS 16u              /* libusb descriptors tracked */
 
 typedef enum pv_usb_status {
+  /* 0, then 200 .. 299: PV_STATUS_BASE_USB (pitvol/status_codes.h) */
   PV_USB_OK = 0,
-  PV_USB_ERR_INIT = 1,        /* libusb could not start */
-  PV_USB_ERR_NOT_FOUND = 2,   /* no scanner attached */
-  PV_USB_ERR_ACCESS = 3,      /* permission denied: udev rule missing */
-  PV_USB_ERR_BUSY = 4,        /* interface claimed by another program */
-  PV_USB_ERR_IO = 5,          /* transfer failed and could not recover */
-  PV_USB_ERR_STATE = 6        /* call not valid in this state */
+  PV_USB_ERR_INIT = 201,      /* libusb could not start */
+  PV_USB_ERR_NOT_FOUND = 202, /* no scanner attached */
+  PV_USB_ERR_ACCESS = 203,    /* permission denied: udev rule missing */
+  PV_USB_ERR_BUSY = 204,      /* interface claimed by another program */
+  PV_USB_ERR_IO = 205,        /* transfer failed and could not recover */
+  PV_USB_ERR_STATE = 206      /* call not valid in this state */
 } pv_usb_status_t;
 
 typedef enum pv_usb_state {
@@ -100,6 +101,8 @@ pv_usb_state_t pv_usb_scanner_poll(pv_usb_scanner_t *s, int timeout_ms);
 PV_NODISCARD pv_usb_status_t pv_usb_scanner_stop(pv_usb_scanner_t *s);
 void pv_usb_scanner_get_stats(const pv_usb_scanner_t *s, pv_usb_scanner_stats_t *out);
 void pv_usb_scanner_close(pv_usb_scanner_t *s);
+/* "PV_USB_ERR_ACCESS", ... and what went wrong and what to do. Never NULL. */
+const char *pv_usb_status_name(pv_usb_status_t st);
 const char *pv_usb_status_message(pv_usb_status_t st);
 
 #ifdef __cplusplus

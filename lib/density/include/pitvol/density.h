@@ -74,13 +74,14 @@ typedef struct pv_density {
 } pv_density_t;
 
 typedef enum pv_density_status {
+  /* 0, then 600 .. 699: PV_STATUS_BASE_DENSITY (pitvol/status_codes.h) */
   PV_DENSITY_OK = 0,
-  PV_DENSITY_ERR_INVALID_ARGUMENT = 1, /* NULL pointer */
-  PV_DENSITY_ERR_VOLUME = 2,    /* volume not > 0 or interval < 0 (or not finite) */
-  PV_DENSITY_ERR_MASS = 3,      /* mass outside 50 .. 100000 g */
-  PV_DENSITY_ERR_MOISTURE = 4,  /* moisture outside 0 .. 100 % */
-  PV_DENSITY_ERR_REFERENCE = 5, /* reference max dry density outside 1000 .. 2800 kg/m3 */
-  PV_DENSITY_ERR_IMPLAUSIBLE = 6 /* mass / volume outside 800 .. 3000 kg/m3 */
+  PV_DENSITY_ERR_INVALID_ARGUMENT = 601, /* NULL pointer */
+  PV_DENSITY_ERR_VOLUME = 602,           /* volume not > 0 or interval < 0 (or not finite) */
+  PV_DENSITY_ERR_MASS = 603,             /* mass outside 50 .. 100000 g */
+  PV_DENSITY_ERR_MOISTURE = 604,         /* moisture outside 0 .. 100 % */
+  PV_DENSITY_ERR_REFERENCE = 605,        /* reference max dry density outside 1000 .. 2800 kg/m3 */
+  PV_DENSITY_ERR_IMPLAUSIBLE = 606       /* mass / volume outside 800 .. 3000 kg/m3 */
 } pv_density_status_t;
 
 const char *pv_density_status_name(pv_density_status_t status);

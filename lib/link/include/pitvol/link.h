@@ -56,12 +56,13 @@ extern "C" {
 #define PV_LINK_MAX_SEQ_GAP 65536u
 
 typedef enum pv_link_status {
+  /* 0, then 500 .. 599: PV_STATUS_BASE_LINK (pitvol/status_codes.h) */
   PV_LINK_OK = 0,
-  PV_LINK_DROPPED = 1,          /* a lossy message was dropped (queue full of reliable ones) */
-  PV_LINK_QUEUE_FULL = 2,       /* a reliable message was refused: flush, then send again */
-  PV_LINK_ENCODE_FAILED = 3,    /* the message does not encode (a string too long?) */
-  PV_LINK_INVALID_ARGUMENT = 4, /* NULL pointer */
-  PV_LINK_WRITE_FAILED = 5      /* the write callback reported an error */
+  PV_LINK_DROPPED = 501,          /* a lossy message was dropped (queue full of reliable ones) */
+  PV_LINK_QUEUE_FULL = 502,       /* a reliable message was refused: flush, then send again */
+  PV_LINK_ENCODE_FAILED = 503,    /* the message does not encode (a string too long?) */
+  PV_LINK_INVALID_ARGUMENT = 504, /* NULL pointer */
+  PV_LINK_WRITE_FAILED = 505      /* the write callback reported an error */
 } pv_link_status_t;
 
 /* Short name and a sentence for the user. Never NULL. */
