@@ -1,5 +1,7 @@
 #include "surface/surface_model.h"
 
+#include "surface/container_lip.h"
+
 #include "common/divisor.h"
 #include "surface/angle_bins.h"
 #include "surface/floor_map.h"
@@ -43,6 +45,7 @@ size_t layout(const Capacity &c, unsigned char *base, Workspace *ws) {
   w.slab_top = take<float>(base, &off, size_t(c.slabs) * kAxisSectors * 2);
   w.ray_floor = take<float>(base, &off, rays);
   w.ray_max = take<float>(base, &off, rays);
+  w.lip_cap = w.ray_max;  // theta_bins <= rays
   w.fill_idx = take<uint32_t>(base, &off, bins);
   w.fill_val = take<float>(base, &off, std::max(bins * 3, cells));
   w.queue = take<uint32_t>(base, &off, cells);
@@ -216,6 +219,16 @@ inline uint32_t theta_of(const ThetaCache &c, size_t i, double dx, double dy,
   return bins.bin(dx, dy);
 }
 
+// Whether a point lies at or beyond a container lip's cap (container_lip.h).
+// The outer wall stands plumb under the lip, and the axis may lean: the
+// radius is taken from the axis at the rim height, to first order in the
+// lean (dz: the point's height less the rim's).
+inline bool beyond_lip(float cap, float r, double dx, double dy, const Axis &axis, double dz) {
+  if (!(cap < HUGE_VALF)) return false;
+  const double shift = (axis.cx1 * dx + axis.cy1 * dy) / double(r) * dz;
+  return double(r) + shift >= double(cap);
+}
+
 // Bins of the far points' height histogram (GridCtx::far_hist): 1 mm from
 // the ghost window's top to Params::slip_mm's, the last taking the rest.
 constexpr uint32_t kFarHistBins = 40;
@@ -234,6 +247,7 @@ struct GridCtx {
   // from the ghost window's top (Model::floor_far_peak)
   uint32_t far_hist[kFarHistBins] = {};
   double ghost = 0;  // pass 2: Params::ghost_mm, the window behind a bin's band, above a cell's
+  const float *lip_cap = nullptr;  // per theta bin: beyond it, outside a container (container_lip.h)
 };
 
 // Pass 3: a wall bin's surface points that lie on the floor map's floor
@@ -250,7 +264,7 @@ void floor_share_pass(void *c, const Point &q) {
   const uint32_t t = theta_of(x->cache, idx, dx, dy, *x->ws->theta);
   WallBin &b = x->ws->wall[size_t(uint32_t(zb)) * g.T + t];
   const auto r = float(std::sqrt(dx * dx + dy * dy));
-  if (r < near_max(b) - b.band) return;
+  if (r < near_max(b) - b.band || beyond_lip(x->lip_cap[t], r, dx, dy, x->m->axis, q.z - x->m->rim_mm)) return;
   const double fx = g.per_cell.of(q.x - g.fx0), fy = g.per_cell.of(q.y - g.fy0);
   if (!(fx >= 0 && fy >= 0 && fx < g.C && fy < g.C)) return;
   const FloorCell &f = x->ws->floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
@@ -287,6 +301,7 @@ void grid_batch(void *c, const Point *pts, size_t count) {
   WallBin *const wall = x->ws->wall;
   FloorCell *const floor = x->ws->floor;
   const AngleBins &bins = *x->ws->theta;
+  const float *const lip_cap = x->lip_cap;
   auto *const sub = reinterpret_cast<uint32_t *>(x->ws->wall_hi);  // kCoarse
   const double per_dth = double(g.T) / (2 * kPi);
   const ThetaCache cache = x->cache;
@@ -328,9 +343,10 @@ void grid_batch(void *c, const Point *pts, size_t count) {
     } else {
       t = theta_of(cache, idx, dx, dy, bins);
     }
+    const auto r = float(std::sqrt(dx * dx + dy * dy));
+    if (beyond_lip(lip_cap[t], r, dx, dy, axis, q.z - rim)) continue;  // a container's outer wall
     const size_t bi = size_t(uint32_t(zb)) * g.T + t;
     WallBin &b = wall[bi];
-    const auto r = float(std::sqrt(dx * dx + dy * dy));
     if (!kSecond) {
       ++b.n_all;
       if (kCoarse) {
@@ -1011,7 +1027,9 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   const size_t cells = size_t(g.C) * g.C;
   for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty, 0, 0};
 
+  lip_caps(src, ws, *m, ws.lip_cap, ws.fill_val);
   GridCtx gc{g, &ws, m, p.band_mm, rim_mm - p.rim_guard_mm, false, theta_cache(ws)};
+  gc.lip_cap = ws.lip_cap;
   gc.ghost = p.ghost_mm;
   gc.slip = p.slip_mm;
   if (p.coarse_bins) {

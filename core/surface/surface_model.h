@@ -142,6 +142,9 @@ struct Workspace {
   float *slab_top;        // slabs * kAxisSectors * 2: two largest radii
   float *ray_floor;       // theta_bins * ray_steps: floor along each ray
   float *ray_max;         // prefix maximum of ray_floor
+  // During build() only, in ray_max's memory (integrate() fills that
+  // afterwards): the container lip's cap per theta bin (container_lip.h).
+  float *lip_cap;
   uint32_t *fill_idx;     // theta_bins * z_bins (bridging rounds)
   float *fill_val;        // max(theta_bins * z_bins * 3, cells * cells)
   uint32_t *queue;        // cells * cells (floor flood)

@@ -451,7 +451,9 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed, const PitOptio
 
   // Container: the outer wall (facing out, so that rays from outside meet
   // its front), then the lip (last: the flat triangles the scan sees from
-  // above, like a ground ring).
+  // above, like a ground ring). The outer wall stands the lip's width
+  // outside the widest ring at each angle (a bulge, an undercut, a groove),
+  // as a real vessel's wall does: the pit's surface never pokes through it.
   if (opt.container_lip_mm > 0.0) {
     Mesh &sc = pit.scanned;
     const double w = opt.container_lip_mm;
@@ -462,9 +464,13 @@ Pit build(const Shape &S, Family fam, bool ground, uint64_t seed, const PitOptio
       const double rx = static_cast<double>(v.xyz[3 * W(nr - 1, j)]);
       const double ry = static_cast<double>(v.xyz[3 * W(nr - 1, j) + 1]);
       const double r = std::hypot(rx, ry);
-      lx[j] = rx * (r + w) / r;
-      ly[j] = ry * (r + w) / r;
-      pit.lip_outer_radius_mm = std::max(pit.lip_outer_radius_mm, r + w);
+      double widest = r;
+      for (size_t k = 0; k + 1 < nr; ++k)
+        widest = std::max(widest, std::hypot(static_cast<double>(v.xyz[3 * W(k, j)]),
+                                             static_cast<double>(v.xyz[3 * W(k, j) + 1])));
+      lx[j] = rx * (widest + w) / r;
+      ly[j] = ry * (widest + w) / r;
+      pit.lip_outer_radius_mm = std::max(pit.lip_outer_radius_mm, widest + w);
     }
     for (size_t j = 0; j < na; ++j) push_vertex(sc.xyz, lx[j], ly[j], pit.rim_z_mm);
     for (size_t j = 0; j < na; ++j) push_vertex(sc.xyz, lx[j], ly[j], pit.rim_z_mm - wall_h);

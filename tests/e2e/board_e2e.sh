@@ -85,6 +85,10 @@ png_ok() { # every named screen has a PNG with the PNG signature
 check_result_equals_reference() { # ply
   read -r ref_st ref_vol <<<"$(reference "$1")"
   [ "$ref_st" = PV_OK ] || fail "reference measure failed: $ref_st"
+  # The board prints %.17g, pitvol's JSON the shortest form that reads
+  # back the same: the same double in the board's form (awk reads and
+  # prints doubles).
+  ref_vol=$(awk -v v="$ref_vol" 'BEGIN { printf "%.17g", v + 0 }')
   local vol
   vol=$(result_field volume_cm3)
   [ "$vol" = "$ref_vol" ] || fail "board volume $vol != pitvol measure $ref_vol (must match bit for bit)"

@@ -172,6 +172,35 @@ void test_rounded_bowl(void **) {
   assert_true(flat_share(pv::sim::make_pit(Family::Cylinder, false, 1), 5.0) > 0.99);
 }
 
+// The widest of the pit's vertices at angle index j: the wall rings and the
+// floor's come in blocks of na, in angle order.
+double widest_at(const Pit &p, size_t nv, size_t na, size_t j) {
+  double w = 0;
+  for (size_t i = j; i < nv; i += na) w = std::max(w, std::hypot(double(p.scanned.xyz[3 * i]), double(p.scanned.xyz[3 * i + 1])));
+  return w;
+}
+
+// A bulging pit in a container: its outer wall stands outside the bulge,
+// not through it, as a real vessel's does.
+void test_container_encloses_bulge(void **) {
+  PitOptions o;
+  o.container_lip_mm = 5.0;
+  const Pit box = pv::sim::make_pit(Family::Bulge, false, 3, o);
+  const Pit bare = pv::sim::make_pit(Family::Bulge, false, 3);
+  const size_t nv = bare.void_closed.vertices() - 1;
+  const size_t na = (box.scanned.vertices() - nv) / 2;
+  double gap_min = HUGE_VAL, gap_max = -HUGE_VAL;
+  for (size_t j = 0; j < na; ++j) {
+    const float *top = &box.scanned.xyz[3 * (nv + j)];
+    const double gap = std::hypot(double(top[0]), double(top[1])) - widest_at(box, nv, na, j);
+    gap_min = std::min(gap_min, gap);
+    gap_max = std::max(gap_max, gap);
+  }
+  print_message("bulge in a container: lip edge minus widest ring %.6f..%.6f mm\n", gap_min, gap_max);
+  assert_true(gap_min > 5.0 - 1e-3 && gap_max < 5.0 + 1e-3);
+  assert_true(box.lip_outer_radius_mm > bare.max_radius_mm + 5.0 - 1e-3);
+}
+
 // A container: the void is the pit's (lid at the lip's top plane, the rim
 // plane), the lip is flat and as wide as asked, its outer wall goes down,
 // and a scan sees lip and outer wall but nothing beyond.
@@ -184,7 +213,8 @@ void test_container(void **) {
   assert_true(box.volume_mm3 == bare.volume_mm3);
   assert_string_equal(box.surround.c_str(), "container");
   assert_string_equal(bare.surround.c_str(), "none");
-  // Lip vertices: in the rim plane, 8 mm out from the rim ring along its ray.
+  // Lip vertices: in the rim plane, along the rim ring's ray, 8 mm out from
+  // the widest ring at their angle.
   const size_t nv = bare.void_closed.vertices() - 1;  // the lid centre is not scanned
   const size_t na = (box.scanned.vertices() - nv) / 2;
   assert_int_equal(box.scanned.vertices(), nv + 2 * na);
@@ -200,7 +230,8 @@ void test_container(void **) {
     assert_true(top[0] == bot[0] && top[1] == bot[1] && bot[2] == 0.0f);
     const double rr = std::hypot(double(rim[j][0]), double(rim[j][1]));
     const double lr = std::hypot(double(top[0]), double(top[1]));
-    assert_true(std::fabs(lr - rr - 8.0) < 1e-3);
+    assert_true(std::fabs(lr - widest_at(box, nv, na, j) - 8.0) < 1e-3);
+    assert_true(lr >= rr + 8.0 - 1e-3);
     assert_true(std::fabs(double(rim[j][0]) * top[1] - double(rim[j][1]) * top[0]) < 1e-2 * lr);
     rim_max = std::max(rim_max, rr);
   }
@@ -536,7 +567,7 @@ void test_sweep_draws(void **) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_scaled_cylinder), cmocka_unit_test(test_rounded_bowl),
-      cmocka_unit_test(test_container),       cmocka_unit_test(test_stones_and_lumps),
+      cmocka_unit_test(test_container), cmocka_unit_test(test_container_encloses_bulge),       cmocka_unit_test(test_stones_and_lumps),
       cmocka_unit_test(test_grooves),         cmocka_unit_test(test_units),
       cmocka_unit_test(test_duplicates),      cmocka_unit_test(test_slips),
       cmocka_unit_test(test_long_scan),       cmocka_unit_test(test_sweep_draws),

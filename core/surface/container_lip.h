@@ -1,0 +1,55 @@
+// The outer edge of a flat top around the pit: a container's lip (or the
+// ground ring's far edge), per theta bin of the wall grid.
+//
+// A container is scanned from inside and, for part of the path, from
+// outside: its outer wall then lies a lip's width behind the inner wall,
+// in the same wall bins, and a bin's largest radius reads the outer wall
+// (the DOUBLED_WALL and POINTS_INSIDE refusals, and volumes up to +35 %,
+// of containers in the envelope sweeps, docs/accuracy.md). Nothing below a
+// flat top and beyond its outer edge can be the pit: the wall seen through
+// the mouth lies inside the top's edge, the outer wall at it. So where the
+// top band (within kLipBandMm of the rim plane) of a theta bin is flat,
+// points below it from kLipTolMm inside its outer edge outward stay out of
+// the wall grid.
+#ifndef PV_SURFACE_CONTAINER_LIP_H
+#define PV_SURFACE_CONTAINER_LIP_H
+
+#include <cstddef>
+
+#include "surface/surface_model.h"
+
+namespace pv::surface {
+
+constexpr double kLipBandMm = 1.0;  // top band: this close to the rim plane
+constexpr double kLipTolMm = 1.5;   // cap this far inside the top's outer edge
+// A theta bin's top is flat (a lip or a ground ring, not the top of a wall
+// that ends at the rim) when this share of its top band points lies
+// further in than kLipTolMm from its outer edge: a 3 mm lip holds half of
+// its points there, a vertical wall's top none, a 45 deg wall's a quarter
+// over the band's 2 mm (and a sloping wall is not undercut there).
+constexpr double kLipFlatShare = 0.3;
+// And the top is a ring round the mouth, not a disc: its inner edge lies
+// at least this share of the outer edge's radius out (a closed shell's top
+// is a disc, and capping at its edge would drop the shell's wall, which
+// the mouth check refuses).
+constexpr double kLipMinHole = 0.5;
+// And the top reaches out over nothing: under half of the wall points
+// within kLipBelowMm under the rim lie further out than kLipTolMm beyond
+// its outer edge (a dome or a necking top reaches in over a wider wall; a
+// container's outer wall stands at the edge).
+constexpr double kLipBelowMm = 6.0;
+// A bin with fewer top band points than kLipMinPoints pools them
+// from up to kLipMaxReach bins either side.
+constexpr unsigned kLipMinPoints = 6;
+constexpr int kLipMaxReach = 3;
+
+// cap[t] for each of the wall grid's theta bins around m.axis: points
+// below the top band with a radius of cap[t] or more are outside the pit
+// (HUGE_VALF: no flat top in that bin, no cap). scratch: 13 * theta_bins
+// floats. Two passes over the points of the top band.
+void lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
+              float *scratch);
+
+}  // namespace pv::surface
+
+#endif
