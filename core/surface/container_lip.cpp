@@ -7,6 +7,22 @@ namespace pv::surface {
 
 namespace {
 
+// The three largest (smallest) so far, top1 >= top2 >= top3: the third is
+// an edge two strays beyond it do not move.
+inline void offer_top3(float *top1, float *top2, float *top3, float v) {
+  const float t1 = *top1, t2 = *top2;
+  *top1 = std::max(t1, v);
+  *top2 = std::max(t2, std::min(t1, v));
+  *top3 = std::max(*top3, std::min(t2, v));
+}
+
+inline void offer_low3(float *low1, float *low2, float *low3, float v) {
+  const float l1 = *low1, l2 = *low2;
+  *low1 = std::min(l1, v);
+  *low2 = std::min(l2, std::max(l1, v));
+  *low3 = std::min(*low3, std::max(l2, v));
+}
+
 struct LipCtx {
   const AngleBins *bins;
   Axis axis;
@@ -35,14 +51,8 @@ void lip_batch(void *c, const Point *pts, size_t count) {
       x->n_below[t] += 1.0f;
       x->n_below_out[t] += r > x->edge[t] + float(kLipTolMm) ? 1.0f : 0.0f;
     } else if (!x->second) {
-      const float a = x->e1[t], b = x->e2[t];
-      x->e1[t] = std::max(a, r);
-      x->e2[t] = std::max(b, std::min(a, r));
-      x->e3[t] = std::max(x->e3[t], std::min(b, r));
-      const float l = x->l1[t], m = x->l2[t];
-      x->l1[t] = std::min(l, r);
-      x->l2[t] = std::min(m, std::max(l, r));
-      x->l3[t] = std::min(x->l3[t], std::max(m, r));
+      offer_top3(&x->e1[t], &x->e2[t], &x->e3[t], r);
+      offer_low3(&x->l1[t], &x->l2[t], &x->l3[t], r);
       x->n_top[t] += 1.0f;
     } else {
       x->n_in[t] += r < x->edge[t] - float(kLipTolMm) ? 1.0f : 0.0f;
@@ -60,17 +70,30 @@ uint32_t around(uint32_t t, int d, uint32_t T) {
 void lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
               float *scratch) {
   const uint32_t T = ws.cap.theta_bins;
-  float *const s = scratch;
-  float *const edge = s + 8 * size_t(T);
-  float *const reach = s + 9 * size_t(T);  // window half-width, bins
-  float *const hole = s + 10 * size_t(T);  // the inner edge
-  LipCtx x{ws.theta, m.axis, m.rim_mm - kLipBandMm, m.rim_mm + kLipBandMm,
-           s, s + T, s + 2 * T, s + 3 * T, s + 4 * T, s + 5 * T, s + 6 * T, edge, s + 7 * T,
-           s + 11 * T, s + 12 * T, m.rim_mm - kLipBelowMm, m.rim_mm - kLipBandMm, false};
-  std::fill(s, s + 3 * size_t(T), -HUGE_VALF);
-  std::fill(s + 3 * size_t(T), s + 6 * size_t(T), HUGE_VALF);
-  std::fill(s + 6 * size_t(T), s + 8 * size_t(T), 0.0f);
-  std::fill(s + 11 * size_t(T), s + 13 * size_t(T), 0.0f);
+  // scratch, theta_bins floats each: pass 1's top band extremes and
+  // counts, pass 2's counts, and the bins' pooled edges.
+  float *next = scratch;
+  auto carve = [&next, T](float fill) {
+    float *p = next;
+    std::fill(p, p + T, fill);
+    next += T;
+    return p;
+  };
+  LipCtx x{};
+  x.bins = ws.theta;
+  x.axis = m.axis;
+  x.lo = m.rim_mm - kLipBandMm;
+  x.hi = m.rim_mm + kLipBandMm;
+  x.below_lo = m.rim_mm - kLipBelowMm;
+  x.below_hi = x.lo;
+  x.e1 = carve(-HUGE_VALF), x.e2 = carve(-HUGE_VALF), x.e3 = carve(-HUGE_VALF);
+  x.l1 = carve(HUGE_VALF), x.l2 = carve(HUGE_VALF), x.l3 = carve(HUGE_VALF);
+  x.n_top = carve(0.0f), x.n_in = carve(0.0f);
+  x.n_below = carve(0.0f), x.n_below_out = carve(0.0f);
+  float *const edge = carve(HUGE_VALF);
+  float *const hole = carve(HUGE_VALF);   // the inner edge
+  float *const reach = carve(0.0f);       // window half-width, bins
+  x.edge = edge;
   src.visit(src.ctx, lip_batch, &x);
   // A bin with too few top band points (a lip the scan saw from far) pools
   // the bins around it: its edges are the window's third largest and third
@@ -82,18 +105,8 @@ void lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float
     for (; d <= kLipMaxReach; ++d) {
       for (int side = d == 0 ? 1 : -1; side <= 1; side += 2) {
         const uint32_t u = around(t, side * d, T);
-        for (const float v : {x.e1[u], x.e2[u], x.e3[u]}) {
-          const float a0 = a, b0 = b;
-          a = std::max(a0, v);
-          b = std::max(b0, std::min(a0, v));
-          c = std::max(c, std::min(b0, v));
-        }
-        for (const float v : {x.l1[u], x.l2[u], x.l3[u]}) {
-          const float a0 = la, b0 = lb;
-          la = std::min(a0, v);
-          lb = std::min(b0, std::max(a0, v));
-          lc = std::min(lc, std::max(b0, v));
-        }
+        for (const float v : {x.e1[u], x.e2[u], x.e3[u]}) offer_top3(&a, &b, &c, v);
+        for (const float v : {x.l1[u], x.l2[u], x.l3[u]}) offer_low3(&la, &lb, &lc, v);
         n += x.n_top[u];
       }
       if (n >= float(kLipMinPoints)) break;
@@ -120,7 +133,7 @@ void lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float
   // Where most of the round is flat (a container, a ground ring), a bin the
   // scan saw too little of the lip in takes its cap from its own inner edge
   // and the flat bins' median width: a vessel's wall is as thick all round.
-  float *const width = s;  // the largest radii are spent
+  float *const width = x.e1;  // the largest radii are spent
   size_t flat = 0, known = 0;
   for (uint32_t t = 0; t < T; ++t) {
     if (!(hole[t] < HUGE_VALF)) continue;
