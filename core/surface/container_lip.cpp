@@ -30,8 +30,9 @@ struct LipCtx {
   float *e1, *e2, *e3;  // pass 1: the three largest radii per bin
   float *l1, *l2, *l3;  // pass 1: the three smallest
   float *n_top;         // pass 1: points per bin
-  const float *edge;    // pass 2: each bin's outer edge
+  const float *edge, *hole;  // pass 2: each bin's outer and inner edge
   float *n_in;          // pass 2: points further in than kLipTolMm from it
+  float *n_mid;         // pass 2: points in the middle half of the ring
   float *n_below, *n_below_out;  // pass 2: wall just below the band, and beyond the edge
   double below_lo, below_hi;
   bool second;
@@ -55,7 +56,9 @@ void lip_batch(void *c, const Point *pts, size_t count) {
       offer_low3(&x->l1[t], &x->l2[t], &x->l3[t], r);
       x->n_top[t] += 1.0f;
     } else {
-      x->n_in[t] += r < x->edge[t] - float(kLipTolMm) ? 1.0f : 0.0f;
+      const float e = x->edge[t], q4 = 0.25f * (e - x->hole[t]);
+      x->n_in[t] += r < e - float(kLipTolMm) ? 1.0f : 0.0f;
+      x->n_mid[t] += r > x->hole[t] + q4 && r < e - q4 ? 1.0f : 0.0f;
     }
   }
 }
@@ -88,12 +91,13 @@ void lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float
   x.below_hi = x.lo;
   x.e1 = carve(-HUGE_VALF), x.e2 = carve(-HUGE_VALF), x.e3 = carve(-HUGE_VALF);
   x.l1 = carve(HUGE_VALF), x.l2 = carve(HUGE_VALF), x.l3 = carve(HUGE_VALF);
-  x.n_top = carve(0.0f), x.n_in = carve(0.0f);
+  x.n_top = carve(0.0f), x.n_in = carve(0.0f), x.n_mid = carve(0.0f);
   x.n_below = carve(0.0f), x.n_below_out = carve(0.0f);
   float *const edge = carve(HUGE_VALF);
   float *const hole = carve(HUGE_VALF);   // the inner edge
   float *const reach = carve(0.0f);       // window half-width, bins
   x.edge = edge;
+  x.hole = hole;
   src.visit(src.ctx, lip_batch, &x);
   // A bin with too few top band points (a lip the scan saw from far) pools
   // the bins around it: its edges are the window's third largest and third
@@ -118,16 +122,18 @@ void lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float
   x.second = true;
   src.visit(src.ctx, lip_batch, &x);
   for (uint32_t t = 0; t < T; ++t) {
-    float n = 0.0f, in = 0.0f, nb = 0.0f, nb_out = 0.0f;
+    float n = 0.0f, in = 0.0f, nb = 0.0f, nb_out = 0.0f, mid = 0.0f;
     const int r = int(reach[t]);
     for (int d = -r; d <= r; ++d) {
       n += x.n_top[around(t, d, T)];
       in += x.n_in[around(t, d, T)];
+      mid += x.n_mid[around(t, d, T)];
       nb += x.n_below[around(t, d, T)];
       nb_out += x.n_below_out[around(t, d, T)];
     }
     const bool flat = edge[t] < HUGE_VALF && in >= float(kLipFlatShare) * n &&
-                      hole[t] >= float(kLipMinHole) * edge[t] && 2.0f * nb_out < nb + 1.0f;
+                      mid >= float(kLipMidShare) * n && hole[t] >= float(kLipMinHole) * edge[t] &&
+                      2.0f * nb_out < nb + 1.0f;
     cap[t] = flat ? edge[t] - float(kLipTolMm) : HUGE_VALF;
   }
   // Where most of the round is flat (a container, a ground ring), a bin the

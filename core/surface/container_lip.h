@@ -38,6 +38,10 @@ constexpr double kLipMinHole = 0.5;
 // its outer edge (a dome or a necking top reaches in over a wider wall; a
 // container's outer wall stands at the edge).
 constexpr double kLipBelowMm = 6.0;
+// And the ring is one surface, not two wall tops side by side (a pass
+// that slipped sideways shows the wall twice): this share of its top band
+// points lies in the middle half of the ring (a lip's surface spans it).
+constexpr double kLipMidShare = 0.05;
 // A bin with fewer top band points than kLipMinPoints pools them
 // from up to kLipMaxReach bins either side.
 constexpr unsigned kLipMinPoints = 6;
@@ -45,7 +49,7 @@ constexpr int kLipMaxReach = 3;
 
 // cap[t] for each of the wall grid's theta bins around m.axis: points
 // below the top band with a radius of cap[t] or more are outside the pit
-// (HUGE_VALF: no flat top in that bin, no cap). scratch: 13 * theta_bins
+// (HUGE_VALF: no flat top in that bin, no cap). scratch: 14 * theta_bins
 // floats. Two passes over the points of the top band.
 void lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
               float *scratch);

@@ -1028,7 +1028,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   for (size_t i = 0; i < cells; ++i) ws.floor[i] = FloorCell{kNoneLow, kNoneLow, 0, 0, 0, kEmpty, 0, 0};
 
   // fill_val (3 x theta_bins x the capacity's z_bins floats) is free until
-  // the bridging: the lip's 13 x theta_bins scratch.
+  // the bridging: the lip's 14 x theta_bins scratch.
   lip_caps(src, ws, *m, ws.lip_cap, ws.fill_val);
   GridCtx gc{g, &ws, m, p.band_mm, rim_mm - p.rim_guard_mm, false, theta_cache(ws)};
   gc.lip_cap = ws.lip_cap;

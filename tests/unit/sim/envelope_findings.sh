@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Findings of the envelope sweep (seed 1, the tuning seed), each made again
-# by pitvol-sim and measured by pitvol: what each must read, and in the
+# Findings of the envelope sweeps (tuning seed 1, and 1300 once looked at),
+# each made again by pitvol-sim and measured by pitvol: what each must read, and in the
 # comments what a pitvol without the guard reads. The scans are the sweep's
 # own, at full density.
 # Usage: envelope_findings.sh PITVOL_SIM PITVOL WORK_DIR
@@ -8,10 +8,11 @@ set -euo pipefail
 sim=$1 pitvol=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
 fail() { echo "FAIL: $*" >&2; exit 1; }
-# measure INDEX: sets status, check, volume and exact for the sweep case.
+# measure INDEX [SEED]: sets status, check, volume and exact for the sweep
+# case (seed 1 unless given).
 measure() {
   local dir="$work/$1"
-  "$sim" sweep --seed 1 --index "$1" --out "$dir" 2>/dev/null
+  "$sim" sweep --seed "${2:-1}" --index "$1" --out "$dir" 2>/dev/null
   local ply
   ply=$(ls "$dir"/*.ply | grep -v -- '-1x.ply' | head -1)
   json=$("$pitvol" measure "$ply" --json 2>/dev/null || true)
@@ -42,4 +43,11 @@ measure 46
 # top as the rim reads -19 % with PV_OK).
 measure 267
 [ "$status" = PV_ERR_NO_RIM ] || fail "267 (wall fading out): $status $volume cm3 against $exact"
-echo "envelope findings: 4 cases as expected"
+# Fresh seed 1300 (looked at for the container lip): a pit without surround
+# whose second pass slipped sideways. Both passes' wall tops make a ring at
+# the rim with the outer copy's wall under its edge, as a container's lip
+# and outer wall do, but nothing between them: a lip capped it and it read
+# 153,083 +/- 1,618 cm3 for 155,808 with PV_OK.
+measure 71 1300
+[ "$status" = PV_ERR_NOT_A_PIT ] || fail "1300/71 (sideways slip, no surround): $status $volume cm3 against $exact"
+echo "envelope findings: 5 cases as expected"
