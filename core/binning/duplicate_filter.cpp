@@ -55,8 +55,7 @@ uint32_t fingerprint_of(uint32_t fp_block, const Cell &k) {
 // Four points' coordinates of one axis in a 4-lane vector (GCC/Clang vector
 // extensions: SSE2 on x86-64, NEON on aarch64, scalar code on Cortex-M7;
 // the same IEEE single-precision operations as one point at a time, so the
-// same cells). Issue 12: the per-axis scalar code was most of the filter's
-// cost.
+// same cells): per-axis scalar code was most of the filter's cost.
 typedef float V4f __attribute__((vector_size(16)));
 typedef int32_t V4i __attribute__((vector_size(16)));
 typedef uint32_t V4u __attribute__((vector_size(16)));
@@ -98,9 +97,9 @@ struct Probes {
 };
 
 // The cells, near bits and block keys of points at..at+3 of a batch, one
-// axis of four points per vector (issue 12: one point's three axes per
-// vector left a quarter of each vector idle and paid a mask extraction per
-// point). Every lane does what the one-point code did, in the same IEEE
+// axis of four points per vector (one point's three axes per vector left
+// a quarter of each vector idle and paid a mask extraction per point).
+// Every lane does what the one-point code did, in the same IEEE
 // single-precision operations, so the same cells and near bits. Returns
 // bit k set where point k is valid (|coordinate| < kAbsurdMm on every axis:
 // false for NaN and infinities); an invalid point's lanes are computed from
@@ -171,8 +170,8 @@ inline bool DuplicateFilter::contains(uint32_t bucket, uint32_t f) const {
   // All 16 words of the line, cursor included (fingerprints are >= 16 and
   // the cursor < 15): four vector compares, no branch.
   // The line is 64-byte aligned: aligned vector loads, which x86-64 folds
-  // into the compares (issue 12: unaligned copies and a reduction through
-  // general registers were half of a lookup's instructions).
+  // into the compares (unaligned copies and a reduction through general
+  // registers were half of a lookup's instructions).
   const V4uLine *w = reinterpret_cast<const V4uLine *>(&buckets_[bucket]);
   const V4u fv = {f, f, f, f};
   return lane_bits4((w[0] == fv) | (w[1] == fv) | (w[2] == fv) | (w[3] == fv)) != 0;

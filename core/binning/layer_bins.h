@@ -17,8 +17,8 @@
 // floor rises only when floor_layers bins have filled at a higher level,
 // a function of the points alone: still independent of their order.
 //
-// Raising a level used to hash every point of the bin again (issue 12: 7 %
-// of the ingest's instructions). With ranks, the bin keeps one byte per
+// Raising a level by hashing every point of the bin again costs 7 % of the
+// ingest's instructions. With ranks, the bin keeps one byte per
 // slot beside the point, the number of leading zero bits of its hash (the
 // highest level it passes), and a raise reads those instead. Without them
 // (a configuration that stores few points, where every byte of the block
@@ -47,7 +47,7 @@ class LayerBins {
   // Stores p in bin j (j < layers()). Returns false if the bin's level
   // rejects it (it was thinned away) — not an error.
   // The common case (the level passes, the bin has room) is inline: it is
-  // on the ingest path of every point (issue 12).
+  // on the ingest path of every point.
   bool insert(uint32_t j, const P3 &p, uint64_t hash) {
     if (!passes(hash, levels_[j])) {
       ++thinned_;

@@ -29,7 +29,7 @@ class HashSample {
   }
   // O(1) when the point is rejected (the common case once the sample is
   // full), O(log k) when it enters. The rejection, a hash above the largest
-  // kept one, is inline: one compare per pushed point (issue 12).
+  // kept one, is inline: one compare per pushed point.
   void offer(const P3 &p, uint64_t hash) {
     if (hash > reject_above_) return;
     offer_slow(p, hash);
@@ -46,7 +46,7 @@ class HashSample {
   SampleEntry *heap_ = nullptr;  // max-heap on hash
   // The largest kept hash once the sample is full, else the largest hash
   // (nothing rejected): the inline test is one compare with no loads of the
-  // heap (issue 12).
+  // heap.
   uint64_t reject_above_ = ~uint64_t(0);
   uint32_t capacity_ = 0;
   uint32_t size_ = 0;

@@ -61,7 +61,7 @@ uint32_t ransac_plane(const Eigen::Vector3d *pts, size_t n,
     // Counted in chunks, and given up once the points left cannot lift the
     // count above the best (a candidate replaces the best only when it has
     // more inliers): the same plane, the same count, at a fraction of the
-    // work for the many candidates through an outlier (issue 12).
+    // work for the many candidates through an outlier.
     uint32_t inliers = 0;
     size_t done = 0;
     while (done < n && inliers + (n - done) > best) {

@@ -27,7 +27,7 @@ struct RansacParams {
 // fewer than 3 points or every triple was degenerate.
 // soa: optional scratch of soa_cap doubles; with 3 n of them the points are
 // counted from a copy by coordinate (x..., y..., z...), a loop without
-// shuffles (issue 12), with the same arithmetic: the same planes.
+// shuffles, with the same arithmetic: the same planes.
 uint32_t ransac_plane(const Eigen::Vector3d *pts, size_t n,
                       const RansacParams &p, Plane *out, double *soa = nullptr,
                       size_t soa_cap = 0);

@@ -80,8 +80,8 @@ GroundPlane fit_ground_plane(const Eigen::Vector3d *pts, size_t n, const Params 
   const double tol = 1.0;  // mm
   // How far from the levelling's vertical the ground may lie: the floor
   // plane of a bowl scanned from one side can be 12 deg off (pitvol-sim
-  // scan --family bowl --arc 300 --seed 5; at 10 deg, the limit until
-  // 2026-12-02, the ground was not found and the volume read +22 %).
+  // scan --family bowl --arc 300 --seed 5: with a 10 deg limit the ground
+  // is not found and the volume reads +22 %).
   const double cos_max = std::cos(kMaxGroundTiltDeg * 3.14159265358979323846 / 180.0);
   uint64_t state = 0x9E3779B97F4A7C15ull;
   auto next = [&state, m]() {

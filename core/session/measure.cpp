@@ -98,7 +98,7 @@ uint64_t assign_layers(pv_session *s, const levelling::Transform &t) {
 // counts them (the same layer_of() test on the same level_z()), for method
 // surface, which needs nothing else of the final layers when its rim comes
 // from the ground ring or the rim plane: a fifth of the cost of the two
-// per-layer sums (issue 12). layer_of(z) is outside exactly when
+// per-layer sums. layer_of(z) is outside exactly when
 // z / layer_mm + 0.5 is not in [-below, layers - below) (floor of a value
 // against an integer bound); Divisor: the same bits as the division.
 uint64_t count_outside(const pv_session *s, const levelling::Transform &t) {
@@ -384,7 +384,7 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out) {
   // Sections between 0 and the largest kept one bound the volume to
   // [0, largest x depth]; the quadrature's weights turn negative where
   // cleanup left uneven spacing (volume.h, V1), so an erratic sequence
-  // (sections jumping 50-fold from layer to layer: fuzz_session, issue 9)
+  // (sections jumping 50-fold from layer to layer: a fuzz_session finding)
   // can integrate to a negative or impossible volume. Refuse it.
   double max_section = 0.0;
   for (size_t i = 0; i < kept; ++i) max_section = std::max(max_section, s->seq_area[i]);

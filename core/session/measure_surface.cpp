@@ -11,8 +11,8 @@ namespace pv::session {
 
 namespace {
 
-// Plausibility: is this one open pit? (issue 9; measured on the standard,
-// held-out and stress sets and on hostile inputs, docs/reliability.md)
+// Plausibility: is this one open pit? (Measured on the standard, held-out
+// and stress sets and on hostile inputs, docs/reliability.md.)
 // A point this far inside the wall, above the floor and below the rim is in
 // the void.
 constexpr double kInsideMarginMm = 5.0;
@@ -89,7 +89,7 @@ struct Levelled {
 constexpr uint32_t kVisitBatch = 256;
 
 // Two points at a time on 2-lane vectors (SSE2, NEON; scalar code on the
-// M7): levelling was a fifth of finish() (issue 12). The arithmetic is
+// M7): levelling point by point was a fifth of finish(). The arithmetic is
 // Transform::apply's as Eigen evaluates it, R(i,0) x + (R(i,1) y + R(i,2) z)
 // + t(i), so the same points.
 typedef double V2d __attribute__((vector_size(16)));
@@ -384,7 +384,7 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
 
 // The per-layer methods' volume rests on their sections alone; whether the
 // points are one open pit is a fact of the points, not of the method. So
-// paper and polar are held to method surface's checks (issue 9) on a
+// paper and polar are held to method surface's checks on a
 // surface model of the same stored points, levelled and capped as the
 // method did, in the block's overlay (the per-layer stages are done with
 // it). The mouth too comes from the model's sections: a per-layer fit's

@@ -128,7 +128,7 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
     if (block != nullptr) o->duplicates.init(dup_mem);
   }
   // The bins keep their points' ranks (one byte a slot: a full bin thins
-  // without hashing its points again, issue 12) in a configuration that
+  // without hashing its points again) in a configuration that
   // stores many points (the default: 1.4 MB, 4.5 % of its block); a small
   // one (the MCU profile, whose every byte counts) hashes again.
   const size_t slots = size_t(layers) * c.points_per_layer +
@@ -189,7 +189,8 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   if (block != nullptr) surface::make_workspace(surf_mem, sc, &o->surf);
   if (c.method == PV_METHOD_SURFACE) {
     // One byte per stored point: its theta bin, computed by the first pass
-    // over the points and read by the others (issue 12). A speed-up for
+    // over the points and read by the others (the angle is a pass's costliest
+  // part). A speed-up for
     // configurations that store many points (the default: 1.4 MB, 4.5 % of
     // its block); a small one (the MCU profile, whose every byte counts)
     // bins each point again in each pass, unless the scratch has room.
@@ -268,7 +269,7 @@ extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points
   // filter's table lookups overlap), as bit masks, then the accepted points
   // in order. The per-point work after that is the hash, the sample's
   // one-compare rejection, the provisional layer and the bin store, all
-  // inline (issue 12).
+  // inline.
   constexpr size_t kBatch = binning::DuplicateFilter::kBatch;
   static_assert(kBatch == 64, "a batch's masks are 64-bit words");
   const bool filter = s->cfg.duplicate_filter != 0;

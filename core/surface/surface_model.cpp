@@ -632,7 +632,7 @@ void reject_unconnected(Workspace &ws, const Geo &g, const Params &p, Model *m) 
   // same both ways, so a bin reaches a root exactly when its component
   // holds one. Searching from the bins that are not roots, over the others
   // that are not, visits the few of them, not every root's 48 neighbours
-  // (issue 12: the search from the roots was 5 % of finish()).
+  // (a search from the roots costs 5 % of finish()).
   for (size_t s = 0; s < bins; ++s) {
     if (ws.wall[s].state != kSeen || mark[s] != kUnsearched) continue;
     size_t head = 0, tail = 0;
@@ -887,7 +887,7 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
 
 // R at height z, linear between bin centres, for any column: where z falls
 // between the centres does not depend on the column, so the integration
-// finds it once per step (issue 12).
+// finds it once per step.
 struct RadiusRow {
   size_t lo_off, hi_off;  // offsets of the lower / upper bin row
   double f;               // weight of the upper row; < 0: the lower row alone
@@ -1099,7 +1099,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   if (!p.coarse_bins) reject_unconnected(ws, g, p, m);
   // Every other bin takes its value from the seen bins that the outlier
   // test leaves (bridge); with too few of them, or none (a cloud whose
-  // sparse bins were all rejected: issue 9, a fuzz finding), the grid would
+  // sparse bins were all rejected: a fuzz finding), the grid would
   // be integrated from values no build wrote.
   if (m->seen_bins - m->rejected_bins < g.T) return Status::NoWall;
   bridge(ws, g, m);

@@ -26,7 +26,7 @@
 // Memory: everything lives in caller memory sized by bytes_needed(); the
 // model is built at finish from the stored points, in five passes over
 // them (centroid, axis slabs, two grid passes, floor share), with no
-// allocation. Speed (issue 12, docs/method.md): theta bins without atan2
+// allocation. Speed (docs/method.md): theta bins without atan2
 // (angle_bins.h), each point's bin kept from the first grid pass for the
 // later ones (Workspace::point_theta), points in batches.
 #ifndef PV_SURFACE_SURFACE_MODEL_H
