@@ -1,18 +1,19 @@
 /*
  * The board's serial link and result log (docs/protocol/serial.md
- * "What the board application does"): attaches to the board application
- * through its hooks (pv_board_app_watch, _post, _set_observer).
+ * "What the board application does"): the link server (pitvol/link_server.h)
+ * with the board application as its application, attached through the
+ * board's hooks (pv_board_app_watch, _post, _set_observer).
  *  - opens the result log (config result_log) and the port (config serial,
  *    serial_baud); an absent or unopenable port means no link, said in the
  *    board's log, and the board measures as before;
- *  - answers GetHello and GetResults (streamed from the log as the link's
- *    queue drains), takes StartScan/StopScan as the START/STOP button's
- *    event, SetMass/SetMoisture into the model (used by the next result);
+ *  - takes StartScan/StopScan as the START/STOP button's event,
+ *    SetMass/SetMoisture into the model (used by the next result), SetRecord
+ *    into the model's test id and the configuration's record;
  *  - sends Status twice a second while scanning (every 2 s otherwise, and
  *    on every state change), appends each Result to the log (fsync) and only
  *    then sends it, with an Error when the scan gave no volume.
- * No allocation after start: the link, the outbox and the log are in this
- * struct.
+ * No allocation after start: the server (link, outbox) and the log are in
+ * this struct.
  */
 #ifndef PV_BOARD_LINK_H
 #define PV_BOARD_LINK_H
@@ -21,7 +22,7 @@
 #include <stdint.h>
 
 #include "board_app.h"
-#include "pitvol/link.h"
+#include "pitvol/link_server.h"
 #include "pitvol/result_log.h"
 #include "pitvol/serial.h"
 
@@ -29,7 +30,6 @@
 extern "C" {
 #endif
 
-#define PV_BOARD_LINK_OUTBOX 8u      /* reliable messages waiting for queue room */
 #define PV_BOARD_LINK_STATUS_MS 500u /* Status period while scanning */
 
 typedef struct pv_board_link {
@@ -37,20 +37,9 @@ typedef struct pv_board_link {
   int have_port, have_log;
   pv_serial_t port;
   pv_log_t log;
-  pv_link_t link;
+  pv_link_server_t srv;
   int timer_fd;
   unsigned ticks;
-  struct {
-    pitvol_Message msg;
-    int is_reply;
-    uint32_t reply_to;
-  } outbox[PV_BOARD_LINK_OUTBOX];
-  uint32_t out_head, out_len, out_dropped;
-  struct {
-    int on;
-    uint32_t cmd_seq, to_id, sent;
-    pv_log_cursor_t cur;
-  } fetch;
   int write_failed; /* said once in the log */
 } pv_board_link_t;
 
