@@ -1,10 +1,11 @@
-// pv-test-device: a stand-in for the board application on the host, for
-// testing pitvol-monitor end to end before the board app exists. It is the
-// real serial stack -- link layer (lib/link), serial driver
-// (drivers/serial, on the master side of a pseudo-terminal), result log
-// (drivers/storage), density (lib/density) and, with --scan, the core
-// measuring a scan file -- with the board's state machine replaced by the
-// few lines below. The board application calls the same APIs.
+// pv-test-device: a stand-in for the board on the host, for testing
+// pitvol-monitor end to end. It runs the board's link server
+// (lib/link/link_server.c: commands, result log fetch, results, status)
+// over the real serial driver (drivers/serial, on the master side of a
+// pseudo-terminal), result log (drivers/storage), density (lib/density) and,
+// with --scan, the core measuring a scan file; only the application behind
+// the server is fake: the board's state machine is replaced by the few
+// callbacks below.
 //
 //   pv-test-device --log DIR --port-link PATH [--preload N] [--scan FILE]
 //                  [--noise PERCENT] [--seed S] [--max-dry KG_M3] [--seconds S]
@@ -12,10 +13,11 @@
 //
 // PATH becomes a symlink to the pty's slave side: the monitor's PORT.
 // --noise: that share of the bytes, both directions, is flipped, dropped or
-// preceded by a random byte (line noise). --lose-id: the log acts as if that
-// record were damaged (GetResults skips it). --hostile: the strings it sends
-// (device id, method, refusals, errors) carry terminal control sequences,
-// as a broken or malicious board might.
+// preceded by a random byte (line noise). --lose-id: that preloaded record is
+// written as a payload that does not decode (damaged storage: the server
+// skips it). --hostile: the strings it sends (device id, method, its
+// refusals of StartScan and StopScan) carry terminal control sequences, as a
+// broken or malicious board might.
 #include <fcntl.h>
 #include <poll.h>
 #include <pty.h>
@@ -26,30 +28,19 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include <pb_decode.h>
-#include <pb_encode.h>
-
-#include "board_clock.h"
-#include "board_record.h"
-#include "board_refusal.h"
 #include "pitvol/density.h"
-#include "pitvol/user_input.h"
 #include "pitvol/link.h"
+#include "pitvol/link_result.h"
+#include "pitvol/link_server.h"
 #include "pitvol/pitvol.h"
 #include "pitvol/result_log.h"
 #include "pitvol/serial.h"
 #include "scanio/scan_reader.h"
 #include "test_rng.h"
-
-static_assert(PV_DENSITY_WET == pitvol_DensityFlag_DENSITY_WET, "density flags = protocol flags");
-static_assert(PV_DENSITY_DRY == pitvol_DensityFlag_DENSITY_DRY, "density flags = protocol flags");
-static_assert(PV_DENSITY_COMPACTION == pitvol_DensityFlag_DENSITY_COMPACTION, "density flags");
-static_assert(PV_DENSITY_UNBOUNDED == pitvol_DensityFlag_DENSITY_UNBOUNDED, "density flags");
 
 namespace {
 
@@ -93,28 +84,16 @@ struct Noise {
 struct Device {
   Options opt;
   pv_serial_t port{-1, 0, 0};
-  pv_link_t link;
   pv_log_t log;
+  pv_link_server_t srv;
   Noise tx_noise, rx_noise;
   std::vector<uint8_t> wire_out;  // bytes on their way to the pty (after noise)
-  struct Out {
-    pitvol_Message msg;
-    bool is_reply = false;
-    uint32_t reply_to = 0;
-  };
-  std::deque<Out> outbox;  // reliable messages waiting for queue room
 
   pitvol_DeviceState state = pitvol_DeviceState_STATE_IDLE;
   uint64_t points = 0;
   bool mass_set = false, moisture_set = false;
   double mass_g = 0, moisture_percent = 0;
-  pv_board_record_t record{};  // SetRecord; max dry density from --max-dry
-
-  struct Fetch {
-    bool on = false;
-    uint32_t cmd_seq = 0, to_id = 0, sent = 0;
-    pv_log_cursor_t cur{};
-  } fetch;
+  pv_link_record_t record{};  // SetRecord; max dry density from --max-dry
 };
 
 long write_cb(void *ctx, const uint8_t *data, size_t len) {
@@ -124,85 +103,81 @@ long write_cb(void *ctx, const uint8_t *data, size_t len) {
   return long(len);
 }
 
-void queue_reliable(Device &d, const pitvol_Message &m) {
-  Device::Out o;
-  o.msg = m;
-  d.outbox.push_back(o);
+// The application behind the link server: the fake state above.
+
+void app_status(void *ctx, pitvol_Status *s) {
+  const Device &d = *static_cast<Device *>(ctx);
+  s->state = d.state;
+  s->points = d.points;
+  s->mass_set = d.mass_set;
+  s->mass_g = d.mass_set ? d.mass_g : 0;
+  s->moisture_set = d.moisture_set;
+  s->moisture_percent = d.moisture_set ? d.moisture_percent : 0;
 }
 
-void pump_outbox(Device &d) {
-  while (!d.outbox.empty()) {
-    const Device::Out &o = d.outbox.front();
-    const pv_link_status_t st = o.is_reply ? pv_link_send_reply(&d.link, o.reply_to, &o.msg)
-                                           : pv_link_send(&d.link, &o.msg, PV_LINK_RELIABLE, nullptr);
-    if (st != PV_LINK_OK) return;
-    d.outbox.pop_front();
-  }
+pitvol_NackCode refuse(const Device &d, const char *reason, char *why, size_t cap) {
+  std::snprintf(why, cap, "%s%s", d.opt.hostile ? kHostile : "", reason);
+  return pitvol_NackCode_NACK_WRONG_STATE;
 }
 
-pitvol_Result make_result(Device &d, uint32_t id, const pv_result_t &r, const char *method) {
-  pitvol_Result out = pitvol_Result_init_zero;
-  out.id = id;
-  // A fixed clock (deterministic logs) through the board's own rule: an
-  // unset clock (--clock 0, 1970) gives time 0.
-  out.time_unix_s = pv_board_result_time(d.opt.clock + int64_t(id) * 60);
-  out.status = int32_t(r.status);
-  std::snprintf(out.method, sizeof out.method, "%s", d.opt.hostile ? "po\x1b[8mlar" : method);
-  out.volume_cm3 = r.volume_cm3;
-  out.interval_cm3 = r.interval_cm3;
-  out.depth_mm = r.depth_mm;
-  out.warnings = r.warnings;
-  out.unseen_share = r.unseen_share;
-  out.points_in = r.points_in;
-  out.points_used = r.points_used;
-  pv_board_result_refusal(&out, r.status, &r);
-  if (r.status == PV_OK) {
+pitvol_NackCode app_start_scan(void *ctx, char *why, size_t cap) {
+  Device &d = *static_cast<Device *>(ctx);
+  if (d.state == pitvol_DeviceState_STATE_SCANNING)
+    return refuse(d, "a scan is already running; stop it first", why, cap);
+  d.state = pitvol_DeviceState_STATE_SCANNING;
+  d.points = 0;
+  return pitvol_NackCode_NACK_NONE;
+}
+
+// Answered now; the main loop computes once the answer is out (finish()
+// takes a while).
+pitvol_NackCode app_stop_scan(void *ctx, char *why, size_t cap) {
+  Device &d = *static_cast<Device *>(ctx);
+  if (d.state != pitvol_DeviceState_STATE_SCANNING)
+    return refuse(d, "no scan is running; start one first", why, cap);
+  d.state = pitvol_DeviceState_STATE_COMPUTING;
+  return pitvol_NackCode_NACK_NONE;
+}
+
+void app_set_density_input(void *ctx, pv_input_kind_t kind, double v) {
+  Device &d = *static_cast<Device *>(ctx);
+  const bool moisture = kind == PV_INPUT_MOISTURE_PERCENT;
+  (moisture ? d.moisture_set : d.mass_set) = true;
+  (moisture ? d.moisture_percent : d.mass_g) = v;
+}
+
+void app_get_record(void *ctx, pv_link_record_t *out) { *out = static_cast<Device *>(ctx)->record; }
+void app_set_record(void *ctx, const pv_link_record_t *rec) { static_cast<Device *>(ctx)->record = *rec; }
+
+const pv_link_app_t kApp = {app_status,     app_start_scan, app_stop_scan, app_set_density_input,
+                            app_get_record, app_set_record, nullptr};
+
+// The result's message, made by the board's mapping, logged (its id is the
+// record number). A fixed clock (deterministic logs): result id at
+// --clock + 60 s x id.
+pitvol_Result log_result(Device &d, const pv_result_t &r, const char *method, pv_log_status_t *st) {
+  pv_density_t den{};
+  if (r.status == PV_OK && d.mass_set) {
     pv_density_input_t in{};
     in.volume_cm3 = r.volume_cm3;
     in.interval_cm3 = r.interval_cm3;
-    in.has_mass = d.mass_set;
+    in.has_mass = 1;
     in.mass_g = d.mass_g;
     in.has_moisture = d.moisture_set;
     in.moisture_percent = d.moisture_percent;
     in.reference_max_dry_kg_m3 = d.record.max_dry_density_kg_m3;
-    pv_density_t den;
-    if (pv_density_compute(&in, &den) == PV_DENSITY_OK && den.flags) {
-      out.has_density = true;
-      pitvol_Density &p = out.density;
-      p.flags = den.flags;
-      p.mass_g = d.mass_g;
-      p.moisture_percent = d.moisture_set ? d.moisture_percent : 0;
-      p.wet_kg_m3 = den.wet_kg_m3;
-      p.wet_low_kg_m3 = den.wet_low_kg_m3;
-      p.wet_high_kg_m3 = den.wet_high_kg_m3;
-      p.dry_kg_m3 = den.dry_kg_m3;
-      p.dry_low_kg_m3 = den.dry_low_kg_m3;
-      p.dry_high_kg_m3 = den.dry_high_kg_m3;
-      p.reference_max_dry_kg_m3 = (den.flags & PV_DENSITY_COMPACTION) ? d.record.max_dry_density_kg_m3 : 0;
-      p.compaction_percent = den.compaction_percent;
-      p.compaction_low_percent = den.compaction_low_percent;
-      p.compaction_high_percent = den.compaction_high_percent;
-    }
-    pv_board_result_record(&out, &d.record, &den, r.volume_cm3);
-    d.record.test_id[0] = '\0';  // used up by a measured result, as on the board
+    if (pv_density_compute(&in, &den) != PV_DENSITY_OK) den = pv_density_t{};
   }
+  const int64_t clock = d.opt.clock + int64_t(pv_log_last_seq(&d.log) + 1) * 60;
+  const pv_link_result_source_t src = {r.status,  &r,         d.opt.hostile ? "po\x1b[8mlar" : method,
+                                       clock,     &den,       d.mass_g,
+                                       d.moisture_percent, &d.record};
+  pitvol_Result out;
+  pv_link_result_message(&out, &src);
+  if (r.status == PV_OK) d.record.test_id[0] = '\0';  // used up by a measured result, as on the board
+  *st = pv_link_server_log_result(&d.srv, &out);
+  if (*st != PV_LOG_OK) std::fprintf(stderr, "pv-test-device: %s\n", pv_log_status_message(*st));
   return out;
-}
-
-// Appends a result to the log (its id is the record number) and returns it.
-bool log_result(Device &d, const pv_result_t &r, const char *method, pitvol_Result *out) {
-  const uint32_t id = pv_log_last_seq(&d.log) + 1;
-  *out = make_result(d, id, r, method);
-  uint8_t buf[pitvol_Result_size];
-  pb_ostream_t os = pb_ostream_from_buffer(buf, sizeof buf);
-  if (!pb_encode(&os, pitvol_Result_fields, out)) return false;
-  uint32_t seq = 0;
-  const pv_log_status_t st = pv_log_append(&d.log, buf, os.bytes_written, &seq);
-  if (st != PV_LOG_OK || seq != id) {
-    std::fprintf(stderr, "pv-test-device: %s\n", pv_log_status_message(st));
-    return false;
-  }
-  return true;
 }
 
 pv_result_t synthetic(uint32_t id) {
@@ -247,188 +222,24 @@ pv_result_t measure_scan(const std::string &path, std::string *method) {
   return r;
 }
 
-void send_hello(Device &d) {
-  pitvol_Message m = pitvol_Message_init_zero;
-  m.which_body = pitvol_Message_hello_tag;
-  pitvol_Hello &h = m.body.hello;
-  h.protocol_version = PV_LINK_PROTOCOL_VERSION;
-  std::snprintf(h.firmware_version, sizeof h.firmware_version, "%s", PV_VERSION_STRING);
-  std::snprintf(h.device_id, sizeof h.device_id, "%s", d.opt.hostile ? kHostile : "PV-TEST-0001");
-  h.capabilities = pitvol_Capability_CAP_RESULT_LOG | pitvol_Capability_CAP_DENSITY;
-  h.max_frame_bytes = PV_LINK_MAX_WIRE_BYTES;
-  h.first_result_id = pv_log_first_seq(&d.log);
-  h.last_result_id = pv_log_last_seq(&d.log);
-  queue_reliable(d, m);
-}
-
-void send_status(Device &d) {
-  pitvol_Message m = pitvol_Message_init_zero;
-  m.which_body = pitvol_Message_status_tag;
-  pitvol_Status &s = m.body.status;
-  s.state = d.state;
-  s.points = d.points;
-  s.last_result_id = pv_log_last_seq(&d.log);
-  s.mass_set = d.mass_set;
-  s.mass_g = d.mass_g;
-  s.moisture_set = d.moisture_set;
-  s.moisture_percent = d.moisture_percent;
-  s.frames_corrupt = d.link.stats.frames_corrupt;
-  // A full queue drops a Status (counted in lossy_dropped): the next replaces it.
-  (void)pv_link_send(&d.link, &m, PV_LINK_LOSSY, nullptr);
-}
-
-// Replies wait in the outbox behind the messages the command produced
-// (Hello, Result), and go out through pv_link_send_reply so that the link
-// answers a repeated command with them.
-void reply(Device &d, const pitvol_Message &m) {
-  Device::Out o;
-  o.msg = m;
-  o.reply_to = m.which_body == pitvol_Message_ack_tag ? m.body.ack.command_seq : m.body.nack.command_seq;
-  o.is_reply = true;
-  d.outbox.push_back(o);
-  pump_outbox(d);
-}
-
-void ack(Device &d, uint32_t seq, uint32_t sent = 0) {
-  pitvol_Message m = pitvol_Message_init_zero;
-  m.which_body = pitvol_Message_ack_tag;
-  m.body.ack = {seq, pv_log_first_seq(&d.log), pv_log_last_seq(&d.log), sent};
-  reply(d, m);
-}
-
-void nack(Device &d, uint32_t seq, pitvol_NackCode code, const char *reason) {
-  pitvol_Message m = pitvol_Message_init_zero;
-  m.which_body = pitvol_Message_nack_tag;
-  m.body.nack.command_seq = seq;
-  m.body.nack.code = code;
-  std::snprintf(m.body.nack.reason, sizeof m.body.nack.reason, "%s%s", d.opt.hostile ? kHostile : "", reason);
-  reply(d, m);
-}
-
-// The scan was stopped: measure, log, send the Result (and an Error if
-// there is no volume).
+// The scan was stopped: measure, log and send the Result (and an Error if
+// there is no volume), as the board does.
 void finish_scan(Device &d) {
   std::string method = "polar";
   const pv_result_t r = d.opt.scan.empty() ? synthetic(pv_log_last_seq(&d.log) + 1)
                                            : measure_scan(d.opt.scan, &method);
-  pitvol_Result res;
-  if (!log_result(d, r, method.c_str(), &res)) {
-    pitvol_Message e = pitvol_Message_init_zero;
-    e.which_body = pitvol_Message_error_tag;
-    e.body.error.code = 100;
-    std::snprintf(e.body.error.name, sizeof e.body.error.name, "PV_BOARD_LOG");
-    std::snprintf(e.body.error.message, sizeof e.body.error.message, "%s", pv_log_status_message(PV_LOG_ERR_IO));
-    queue_reliable(d, e);
-    d.state = pitvol_DeviceState_STATE_ERROR;
-    return;
-  }
+  pv_log_status_t st = PV_LOG_OK;
+  const pitvol_Result res = log_result(d, r, method.c_str(), &st);
   d.state = pitvol_DeviceState_STATE_RESULT;
-  pitvol_Message out = pitvol_Message_init_zero;
-  out.which_body = pitvol_Message_result_tag;
-  out.body.result = res;
-  queue_reliable(d, out);
-  if (r.status != PV_OK) {
-    pitvol_Message e = pitvol_Message_init_zero;
-    e.which_body = pitvol_Message_error_tag;
-    e.body.error.code = int32_t(r.status);
-    std::snprintf(e.body.error.name, sizeof e.body.error.name, "%s", pv_status_name(r.status));
-    std::snprintf(e.body.error.message, sizeof e.body.error.message, "%s%s", d.opt.hostile ? kHostile : "",
-                  pv_status_message(r.status));
-    queue_reliable(d, e);
-  }
+  pv_link_server_send_result(&d.srv, &res, st);
 }
 
-void handle(Device &d, const pv_link_rx_t &rx) {
-  const pitvol_Message &m = rx.msg;
-  switch (m.which_body) {
-    case pitvol_Message_get_hello_tag:
-      send_hello(d);
-      ack(d, rx.seq);
-      break;
-    case pitvol_Message_start_scan_tag:
-      if (d.state == pitvol_DeviceState_STATE_SCANNING) {
-        nack(d, rx.seq, pitvol_NackCode_NACK_WRONG_STATE, "a scan is already running; stop it first");
-        break;
-      }
-      d.state = pitvol_DeviceState_STATE_SCANNING;
-      d.points = 0;
-      ack(d, rx.seq);
-      break;
-    case pitvol_Message_stop_scan_tag:
-      if (d.state != pitvol_DeviceState_STATE_SCANNING) {
-        nack(d, rx.seq, pitvol_NackCode_NACK_WRONG_STATE, "no scan is running; start one first");
-        break;
-      }
-      // Answer now, compute once the answer is out (finish() takes a while).
-      d.state = pitvol_DeviceState_STATE_COMPUTING;
-      ack(d, rx.seq);
-      break;
-    case pitvol_Message_set_mass_tag:
-    case pitvol_Message_set_moisture_tag: {
-      // As the board: the plausible ranges of pitvol/user_input.h.
-      const bool moisture = m.which_body == pitvol_Message_set_moisture_tag;
-      const double v = moisture ? m.body.set_moisture.moisture_percent : m.body.set_mass.mass_g;
-      char why[sizeof(pitvol_Nack{}.reason)];
-      if (pv_input_check(moisture ? PV_INPUT_MOISTURE_PERCENT : PV_INPUT_MASS_G, v, why, sizeof why) != 0) {
-        nack(d, rx.seq, pitvol_NackCode_NACK_OUT_OF_RANGE, why);
-        break;
-      }
-      (moisture ? d.moisture_set : d.mass_set) = true;
-      (moisture ? d.moisture_percent : d.mass_g) = v;
-      ack(d, rx.seq);
-      break;
-    }
-    case pitvol_Message_set_record_tag: {
-      char why[sizeof(pitvol_Nack{}.reason)];
-      if (pv_board_record_apply(&d.record, &m.body.set_record, why, sizeof why) != 0) {
-        nack(d, rx.seq, pitvol_NackCode_NACK_OUT_OF_RANGE, why);
-        break;
-      }
-      ack(d, rx.seq);
-      break;
-    }
-    case pitvol_Message_get_results_tag:
-      if (d.fetch.on) ack(d, d.fetch.cmd_seq, d.fetch.sent);  // a newer request replaces it
-      d.fetch = {};
-      d.fetch.on = true;
-      d.fetch.cmd_seq = rx.seq;
-      d.fetch.to_id = m.body.get_results.to_id ? m.body.get_results.to_id : UINT32_MAX;
-      if (pv_log_seek(&d.log, m.body.get_results.from_id, &d.fetch.cur) != PV_LOG_OK) {
-        d.fetch.on = false;
-        nack(d, rx.seq, pitvol_NackCode_NACK_STORAGE, pv_log_status_message(PV_LOG_ERR_IO));
-      }
-      break;
-    default:
-      nack(d, rx.seq, pitvol_NackCode_NACK_UNKNOWN_COMMAND, "this board does not know that command");
-      break;
-  }
-}
-
-// Streams a GetResults answer as the link drains, so the queue stays bounded.
-void continue_fetch(Device &d) {
-  while (d.fetch.on && d.outbox.empty() && pv_link_tx_room(&d.link) > 2) {
-    uint8_t buf[PV_LOG_MAX_PAYLOAD_BYTES];
-    uint32_t seq = 0;
-    size_t len = 0;
-    const pv_log_status_t st = pv_log_next(&d.log, &d.fetch.cur, buf, sizeof buf, &seq, &len);
-    if (st == PV_LOG_END || (st == PV_LOG_OK && seq > d.fetch.to_id)) {
-      d.fetch.on = false;
-      ack(d, d.fetch.cmd_seq, d.fetch.sent);
-      return;
-    }
-    if (st != PV_LOG_OK) {
-      d.fetch.on = false;
-      nack(d, d.fetch.cmd_seq, pitvol_NackCode_NACK_STORAGE, pv_log_status_message(st));
-      return;
-    }
-    if (seq == d.opt.lose_id) continue;
-    pitvol_Message m = pitvol_Message_init_zero;
-    m.which_body = pitvol_Message_result_tag;
-    pb_istream_t is = pb_istream_from_buffer(buf, len);
-    if (!pb_decode(&is, pitvol_Result_fields, &m.body.result)) continue;
-    if (pv_link_send(&d.link, &m, PV_LINK_RELIABLE, nullptr) != PV_LINK_OK) return;
-    d.fetch.sent++;
-  }
+// A record of --lose-id: damaged storage, a payload that is no pitvol.Result
+// (a varint longer than 10 bytes).
+bool log_damaged(Device &d) {
+  const uint8_t junk[11] = {0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff};
+  uint32_t seq = 0;
+  return pv_log_append(&d.log, junk, sizeof junk, &seq) == PV_LOG_OK;
 }
 
 int usage() {
@@ -475,13 +286,21 @@ int main(int argc, char **argv) {
     std::fprintf(stderr, "pv-test-device: %s\n", pv_log_status_message(lst));
     return 1;
   }
+  const pv_link_server_config_t sc = {&kApp, &d, &d.log, d.opt.hostile ? kHostile : "PV-TEST-0001",
+                                      pitvol_Capability_CAP_DENSITY, 0};
+  pv_link_server_init(&d.srv, &sc);
   for (long i = 0; i < d.opt.preload && pv_log_last_seq(&d.log) < uint32_t(d.opt.preload); ++i) {
+    if (pv_log_last_seq(&d.log) + 1 == d.opt.lose_id) {
+      if (!log_damaged(d)) return 1;
+      continue;
+    }
     // Every third preloaded result with a mass and moisture set.
     d.mass_set = d.moisture_set = (i % 3 == 2);
     d.mass_g = 3000.0;
     d.moisture_percent = 12.5;
-    pitvol_Result res;
-    if (!log_result(d, synthetic(pv_log_last_seq(&d.log) + 1), "polar", &res)) return 1;
+    pv_log_status_t st = PV_LOG_OK;
+    (void)log_result(d, synthetic(pv_log_last_seq(&d.log) + 1), "polar", &st);
+    if (st != PV_LOG_OK) return 1;
   }
   d.mass_set = d.moisture_set = false;
 
@@ -503,7 +322,6 @@ int main(int argc, char **argv) {
     std::perror("pv-test-device: symlink");
     return 1;
   }
-  pv_link_init(&d.link, 0);
   d.tx_noise.p = d.rx_noise.p = d.opt.noise_percent / 100.0;
   d.tx_noise.rng.s = d.opt.seed;
   d.rx_noise.rng.s = d.opt.seed * 7919u + 1u;
@@ -516,18 +334,16 @@ int main(int argc, char **argv) {
     const auto now = Clock::now();
     if (now >= next_status) {
       if (d.state == pitvol_DeviceState_STATE_SCANNING) d.points += 1000;
-      send_status(d);
+      pv_link_server_send_status(&d.srv);
       next_status = now + std::chrono::milliseconds(100);
     }
-    pump_outbox(d);
-    continue_fetch(d);
-    const pv_link_status_t fst = pv_link_tx_flush(&d.link, write_cb, &d);
+    const pv_link_status_t fst = pv_link_server_service(&d.srv, write_cb, &d);
     if (fst != PV_LINK_OK) {
       std::fprintf(stderr, "pv-test-device: %s\n", pv_link_status_message(fst));
       return 1;
     }
-    if (d.state == pitvol_DeviceState_STATE_COMPUTING && d.outbox.empty() &&
-        !pv_link_tx_pending(&d.link) && d.wire_out.empty())
+    if (d.state == pitvol_DeviceState_STATE_COMPUTING && !pv_link_server_busy(&d.srv) &&
+        d.wire_out.empty())
       finish_scan(d);
     pollfd pfd{pv_serial_fd(&d.port), short(POLLIN | (d.wire_out.empty() ? 0 : POLLOUT)), 0};
     if (poll(&pfd, 1, 20) < 0) continue;
@@ -542,16 +358,12 @@ int main(int argc, char **argv) {
       if (pv_serial_read(&d.port, buf, sizeof buf, &n) != PV_SERIAL_OK) continue;
       std::vector<uint8_t> in;
       d.rx_noise.apply(buf, n, &in);
-      for (size_t at = 0; at < in.size();) {
-        pv_link_rx_t rx;
-        int got = 0;
-        at += pv_link_feed(&d.link, in.data() + at, in.size() - at, &rx, &got);
-        if (got) handle(d, rx);
-      }
+      pv_link_server_feed(&d.srv, in.data(), in.size());
     }
   }
   std::fprintf(stderr, "pv-test-device: %u frames received, %u corrupt, %u repeated commands\n",
-               d.link.stats.frames_received, d.link.stats.frames_corrupt, d.link.stats.commands_duplicate);
+               d.srv.link.stats.frames_received, d.srv.link.stats.frames_corrupt,
+               d.srv.link.stats.commands_duplicate);
   unlink(d.opt.port_link.c_str());
   pv_serial_close(&d.port);
   close(slave);

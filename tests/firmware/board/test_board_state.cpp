@@ -11,7 +11,6 @@
 extern "C" {
 #include "board_config.h"
 #include "board_app.h"
-#include "board_clock.h"
 #include "board_screens.h"
 #include "board_state.h"
 #include "pitvol/advice.h"
@@ -253,18 +252,6 @@ void config_ranges_are_the_cores(void **) {
       }
     }
   }
-}
-
-// A board clock that was never set reads 1970: its results carry time 0
-// ("clock not set", which pitvol-monitor prints as clock-not-set), never a
-// false date; from 2024-01-01T00:00:00Z (1704067200) on a reading is a date.
-void result_time_is_zero_for_an_unset_clock(void **) {
-  assert_int_equal(pv_board_result_time(0), 0);
-  assert_int_equal(pv_board_result_time(86400 * 30), 0);           // 1970-01-31
-  assert_int_equal(pv_board_result_time(1704067199), 0);           // 2023-12-31T23:59:59Z
-  assert_int_equal(pv_board_result_time(-5), 0);
-  assert_int_equal(pv_board_result_time(1704067200), 1704067200);  // 2024-01-01T00:00:00Z
-  assert_int_equal(pv_board_result_time(1796083200), 1796083200);  // 2026-12-01
 }
 
 // Draws a model's screen and returns the text it laid out.
@@ -539,7 +526,6 @@ int main() {
       cmocka_unit_test(coverage_hint_names_the_widest_unseen_band),
       cmocka_unit_test(warning_table_is_complete),
       cmocka_unit_test(config_ranges_are_the_cores),
-      cmocka_unit_test(result_time_is_zero_for_an_unset_clock),
       cmocka_unit_test(screens_say_what_matters),
       cmocka_unit_test(full_queue_counts_and_shows_lost_events),
       cmocka_unit_test(result_screen_shows_density),
