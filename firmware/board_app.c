@@ -91,9 +91,12 @@ void pv_board_app_quit(pv_board_app_t *app) { app->quit = 1; }
 static void present(pv_board_app_t *app) {
   pv_board_draw(&app->canvas, &app->model, &app->fonts, app->cfg.units);
   char err[256];
-  if (pv_display_present(app->display, &app->canvas, pv_board_state_name(app->model.state), err,
-                         sizeof err) != 0) {
-    fprintf(stderr, "pitvol-board: display: %s\n", err);
+  const pv_display_status_t st = pv_display_present(
+      app->display, &app->canvas, pv_board_state_name(app->model.state), err, sizeof err);
+  /* The board keeps running on a display that failed once: the scan and
+   * the link do not need it, and the next screen may well get through. */
+  if (st != PV_DISPLAY_OK) {
+    fprintf(stderr, "pitvol-board: display: %s [%s]\n", err, pv_display_status_name(st));
   }
   app->presents++;
   /* After the screen is out: a watcher waiting for this line can read it. */
@@ -254,32 +257,48 @@ static void measure(pv_board_app_t *app) {
   post(app, PV_EV_MEASURED);
 }
 
+/* Appends the status's name to the sentence in err ("... [PV_DISPLAY_ERR_OPEN]"):
+ * the log then names the module and the fault. Returns -1. */
+static int failed(char *err, size_t errcap, const char *status_name) {
+  const size_t n = strnlen(err, errcap);
+  if (n < errcap) snprintf(err + n, errcap - n, " [%s]", status_name);
+  return -1;
+}
+
 int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *err, size_t errcap) {
   memset(app, 0, sizeof *app);
   app->timer_fd = app->signal_fd = -1;
   app->cfg = *cfg;
   pv_board_init(&app->model);
-  if (pv_board_config_check(cfg, err, errcap) != 0) return -1;
+  const pv_board_config_status_t cst = pv_board_config_check(cfg, err, errcap);
+  if (cst != PV_BOARD_CONFIG_OK) return failed(err, errcap, pv_board_config_status_name(cst));
 
-  const char *why = NULL;
-  if (pv_font_parse_psf2(&app->fonts.body, pv_font_10x20, pv_font_10x20_bytes, &why) != 0 ||
-      pv_font_parse_psf2(&app->fonts.big, pv_font_16x32, pv_font_16x32_bytes, &why) != 0) {
-    snprintf(err, errcap, "built-in font: %s", why);
-    return -1;
+  pv_display_status_t dst =
+      pv_font_parse_psf2(&app->fonts.body, pv_font_10x20, pv_font_10x20_bytes);
+  if (dst == PV_DISPLAY_OK) {
+    dst = pv_font_parse_psf2(&app->fonts.big, pv_font_16x32, pv_font_16x32_bytes);
+  }
+  if (dst != PV_DISPLAY_OK) {
+    snprintf(err, errcap, "built-in font: %s", pv_display_status_message(dst));
+    return failed(err, errcap, pv_display_status_name(dst));
   }
   const size_t canvas_bytes =
       pv_canvas_bytes(cfg->display_width, cfg->display_height, PV_BOARD_TEXT_LOG_BYTES);
   app->canvas_mem = malloc(canvas_bytes);
-  if (app->canvas_mem == NULL ||
-      pv_canvas_init(&app->canvas, cfg->display_width, cfg->display_height,
-                     PV_BOARD_TEXT_LOG_BYTES, app->canvas_mem, canvas_bytes) != 0) {
+  if (app->canvas_mem == NULL) {
     snprintf(err, errcap, "no memory for a %ux%u canvas", cfg->display_width, cfg->display_height);
-    return -1;
+    return failed(err, errcap, pv_display_status_name(PV_DISPLAY_ERR_NO_MEMORY));
   }
-  if (pv_display_open(&app->display, cfg->display, cfg->display_width, cfg->display_height, err,
-                      errcap) != 0) {
-    return -1;
+  dst = pv_canvas_init(&app->canvas, cfg->display_width, cfg->display_height,
+                       PV_BOARD_TEXT_LOG_BYTES, app->canvas_mem, canvas_bytes);
+  if (dst != PV_DISPLAY_OK) {
+    snprintf(err, errcap, "canvas %ux%u: %s", cfg->display_width, cfg->display_height,
+             pv_display_status_message(dst));
+    return failed(err, errcap, pv_display_status_name(dst));
   }
+  dst = pv_display_open(&app->display, cfg->display, cfg->display_width, cfg->display_height, err,
+                        errcap);
+  if (dst != PV_DISPLAY_OK) return failed(err, errcap, pv_display_status_name(dst));
   present(app); /* BOOT */
 
   size_t bytes = 0;
@@ -296,7 +315,8 @@ int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *e
   printf("pitvol-board: core block %zu bytes, canvas %ux%u\n", bytes, cfg->display_width,
          cfg->display_height);
 
-  if (pv_input_open(&app->input, cfg->input, err, errcap) != 0) return -1;
+  const pv_input_status_t ist = pv_input_open(&app->input, cfg->input, err, errcap);
+  if (ist != PV_INPUT_OK) return failed(err, errcap, pv_input_status_name(ist));
 
   app->timer_fd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
   struct itimerspec its;
@@ -385,9 +405,12 @@ int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap) {
     if (r > 0 && (app->fds[i_input].revents & POLLIN)) {
       pv_key_t keys[8];
       char ierr[128];
-      const int k = pv_input_read(app->input, keys, 8, ierr, sizeof ierr);
-      if (k < 0) fprintf(stderr, "pitvol-board: %s\n", ierr);
-      for (int i = 0; i < k; ++i) {
+      size_t k = 0;
+      const pv_input_status_t ist = pv_input_read(app->input, keys, 8, &k, ierr, sizeof ierr);
+      if (ist != PV_INPUT_OK) {
+        fprintf(stderr, "pitvol-board: %s [%s]\n", ierr, pv_input_status_name(ist));
+      }
+      for (size_t i = 0; i < k; ++i) {
         static const pv_board_event_t kKeyEvent[] = {PV_EV_START_STOP, PV_EV_START_STOP,
                                                      PV_EV_ENTER, PV_EV_BACK};
         printf("pitvol-board: button %s\n", pv_key_name(keys[i]));

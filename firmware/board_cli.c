@@ -38,6 +38,13 @@ static int usage(const char *why) {
   return 2;
 }
 
+/* A refused configuration: the sentence and the status's name. */
+static int config_usage(pv_board_config_status_t st, const char *err) {
+  char why[640];
+  snprintf(why, sizeof why, "%s [%s]", err, pv_board_config_status_name(st));
+  return usage(why);
+}
+
 int pv_board_cli_main(int argc, char **argv, const pv_board_cli_hooks_t *hooks) {
   setvbuf(stdout, g_stdout_buf, _IOLBF, sizeof g_stdout_buf);
   pv_board_config_t cfg;
@@ -48,21 +55,25 @@ int pv_board_cli_main(int argc, char **argv, const pv_board_cli_hooks_t *hooks) 
     if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) config = argv[++i];
   }
   if (config == NULL && access(PV_BOARD_DEFAULT_CONFIG, R_OK) == 0) config = PV_BOARD_DEFAULT_CONFIG;
-  if (config != NULL && pv_board_config_load(&cfg, config, err, sizeof err) != 0) return usage(err);
+  pv_board_config_status_t st = PV_BOARD_CONFIG_OK;
+  if (config != NULL) st = pv_board_config_load(&cfg, config, err, sizeof err);
+  if (st != PV_BOARD_CONFIG_OK) return config_usage(st, err);
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
     const int more = i + 1 < argc;
     if (strcmp(a, "--config") == 0 && more) {
       ++i;
     } else if ((strcmp(a, "--display") == 0 || strcmp(a, "--input") == 0) && more) {
-      if (pv_board_config_set(&cfg, a + 2, argv[++i], err, sizeof err) != 0) return usage(err);
+      st = pv_board_config_set(&cfg, a + 2, argv[++i], err, sizeof err);
+      if (st != PV_BOARD_CONFIG_OK) return config_usage(st, err);
     } else if (strcmp(a, "--set") == 0 && more) {
       char kv[512];
       snprintf(kv, sizeof kv, "%s", argv[++i]);
       char *eq = strchr(kv, '=');
       if (eq == NULL) return usage("--set wants KEY=VALUE");
       *eq = '\0';
-      if (pv_board_config_set(&cfg, kv, eq + 1, err, sizeof err) != 0) return usage(err);
+      st = pv_board_config_set(&cfg, kv, eq + 1, err, sizeof err);
+      if (st != PV_BOARD_CONFIG_OK) return config_usage(st, err);
     } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
       return usage(NULL);
     } else {
@@ -71,7 +82,8 @@ int pv_board_cli_main(int argc, char **argv, const pv_board_cli_hooks_t *hooks) 
       return usage(why);
     }
   }
-  if (pv_board_config_check(&cfg, err, sizeof err) != 0) return usage(err);
+  st = pv_board_config_check(&cfg, err, sizeof err);
+  if (st != PV_BOARD_CONFIG_OK) return config_usage(st, err);
   printf("pitvol-board %s: display %s, input %s, scanner %04x:%04x\n", PV_VERSION_STRING,
          cfg.display, cfg.input, cfg.usb_vendor, cfg.usb_product);
   if (pv_board_app_init(&g_app, &cfg, err, sizeof err) != 0) {

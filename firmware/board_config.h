@@ -55,17 +55,41 @@ typedef struct pv_board_config {
   pv_config_t core;
 } pv_board_config_t;
 
+/* 0, then 851 .. 899: PV_STATUS_BASE_BOARD_CONFIG (pitvol/status_codes.h). */
+typedef enum pv_board_config_status {
+  PV_BOARD_CONFIG_OK = 0,
+  PV_BOARD_CONFIG_ERR_INVALID_ARGUMENT = 851, /* NULL */
+  PV_BOARD_CONFIG_ERR_OPEN = 852,             /* the file cannot be opened */
+  PV_BOARD_CONFIG_ERR_SYNTAX = 853,           /* a line that is not `key = value` */
+  PV_BOARD_CONFIG_ERR_UNKNOWN_KEY = 854,      /* a key (or core.<field>) the board does not have */
+  PV_BOARD_CONFIG_ERR_VALUE = 855,            /* a value of the wrong form or outside its range */
+  PV_BOARD_CONFIG_ERR_TOO_LONG = 856,         /* a path or a text longer than its field */
+  PV_BOARD_CONFIG_ERR_DISPLAY_SIZE = 857,     /* display smaller than 320 x 240 */
+  PV_BOARD_CONFIG_ERR_CORE = 858              /* the core's settings together are refused */
+} pv_board_config_status_t;
+
+/* The symbol ("PV_BOARD_CONFIG_ERR_VALUE"). Never NULL. */
+const char *pv_board_config_status_name(pv_board_config_status_t status);
+/* What went wrong and what the user can do. Never NULL. */
+const char *pv_board_config_status_message(pv_board_config_status_t status);
+
 /* Board defaults (fbdev:/dev/fb0, evdev:/dev/input/event0, 320x240, cm3)
  * and the core's defaults. */
 void pv_board_config_default(pv_board_config_t *c);
-/* Applies one `key = value`; 0 or -1 with a reason in err. */
-PV_NODISCARD int pv_board_config_set(pv_board_config_t *c, const char *key, const char *value,
-                                     char *err, size_t errcap);
-/* Reads a file on top of what c holds; 0 or -1 with "path:line: reason". */
-PV_NODISCARD int pv_board_config_load(pv_board_config_t *c, const char *path, char *err,
-                                      size_t errcap);
-/* Checks the whole configuration (core included); 0 or -1 with a reason. */
-PV_NODISCARD int pv_board_config_check(const pv_board_config_t *c, char *err, size_t errcap);
+/* Applies one `key = value`. PV_BOARD_CONFIG_OK, or _UNKNOWN_KEY, _VALUE,
+ * _TOO_LONG with a reason in err (the key, the value, the range). */
+PV_NODISCARD pv_board_config_status_t pv_board_config_set(pv_board_config_t *c, const char *key,
+                                                          const char *value, char *err,
+                                                          size_t errcap);
+/* Reads a file on top of what c holds. PV_BOARD_CONFIG_OK, _OPEN, _SYNTAX
+ * or the first bad line's pv_board_config_set status, with
+ * "path:line: reason" in err. */
+PV_NODISCARD pv_board_config_status_t pv_board_config_load(pv_board_config_t *c, const char *path,
+                                                           char *err, size_t errcap);
+/* Checks the whole configuration (core included). PV_BOARD_CONFIG_OK,
+ * _DISPLAY_SIZE or _CORE with a reason in err. */
+PV_NODISCARD pv_board_config_status_t pv_board_config_check(const pv_board_config_t *c, char *err,
+                                                            size_t errcap);
 
 #ifdef __cplusplus
 }

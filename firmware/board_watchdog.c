@@ -9,6 +9,36 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+_Static_assert(PV_BOARD_WATCHDOG_ERR_SOCKET_PATH > PV_STATUS_BASE_WATCHDOG &&
+                   PV_BOARD_WATCHDOG_ERR_TIMER < PV_STATUS_BASE_END,
+               "pv_board_watchdog_status_t in its range (pitvol/status_codes.h)");
+
+const char *pv_board_watchdog_status_name(pv_board_watchdog_status_t status) {
+  switch (status) {
+    case PV_BOARD_WATCHDOG_OK: return "PV_BOARD_WATCHDOG_OK";
+    case PV_BOARD_WATCHDOG_ERR_SOCKET_PATH: return "PV_BOARD_WATCHDOG_ERR_SOCKET_PATH";
+    case PV_BOARD_WATCHDOG_ERR_NOTIFY: return "PV_BOARD_WATCHDOG_ERR_NOTIFY";
+    case PV_BOARD_WATCHDOG_ERR_TIMER: return "PV_BOARD_WATCHDOG_ERR_TIMER";
+  }
+  return "PV_BOARD_WATCHDOG_ERR_UNKNOWN";
+}
+
+const char *pv_board_watchdog_status_message(pv_board_watchdog_status_t status) {
+  switch (status) {
+    case PV_BOARD_WATCHDOG_OK: return "started";
+    case PV_BOARD_WATCHDOG_ERR_SOCKET_PATH:
+      return "NOTIFY_SOCKET is not a socket path; run the board from its systemd unit "
+             "(packaging/pitvol-board.service) or unset NOTIFY_SOCKET";
+    case PV_BOARD_WATCHDOG_ERR_NOTIFY:
+      return "systemd's notify socket does not take READY=1; check that the unit is "
+             "Type=notify and systemd is running";
+    case PV_BOARD_WATCHDOG_ERR_TIMER:
+      return "the watchdog's ping timer cannot be set up; free descriptors or remove "
+             "WatchdogSec= from the unit";
+  }
+  return "unknown watchdog status";
+}
+
 static int g_sock = -1;
 static int g_timer = -1;
 static struct sockaddr_un g_addr;
@@ -28,13 +58,14 @@ static void on_timer(pv_board_app_t *app, int fd, short revents, void *user) {
   if (notify("WATCHDOG=1") == 0) ++g_pings;
 }
 
-int pv_board_watchdog_start(pv_board_app_t *app, char *err, size_t errcap) {
+pv_board_watchdog_status_t pv_board_watchdog_start(pv_board_app_t *app, char *err,
+                                                   size_t errcap) {
   const char *path = getenv("NOTIFY_SOCKET");
-  if (path == NULL || path[0] == '\0') return 0;
+  if (path == NULL || path[0] == '\0') return PV_BOARD_WATCHDOG_OK;
   const size_t len = strlen(path);
   if ((path[0] != '/' && path[0] != '@') || len >= sizeof g_addr.sun_path) {
     snprintf(err, errcap, "systemd: NOTIFY_SOCKET '%s' is not a socket path", path);
-    return -1;
+    return PV_BOARD_WATCHDOG_ERR_SOCKET_PATH;
   }
   memset(&g_addr, 0, sizeof g_addr);
   g_addr.sun_family = AF_UNIX;
@@ -44,15 +75,17 @@ int pv_board_watchdog_start(pv_board_app_t *app, char *err, size_t errcap) {
   g_sock = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
   if (g_sock < 0 || notify("READY=1") != 0) {
     snprintf(err, errcap, "systemd: cannot notify %s (%s)", path, strerror(errno));
-    return -1;
+    return PV_BOARD_WATCHDOG_ERR_NOTIFY;
   }
 
   const char *usec = getenv("WATCHDOG_USEC");
   const char *pid = getenv("WATCHDOG_PID");
   char *end = NULL;
   const unsigned long long period_us = usec != NULL ? strtoull(usec, &end, 10) : 0;
-  if (period_us == 0 || end == NULL || *end != '\0') return 0; /* no watchdog asked for */
-  if (pid != NULL && strtol(pid, NULL, 10) != (long)getpid()) return 0; /* meant for another */
+  if (period_us == 0 || end == NULL || *end != '\0') return PV_BOARD_WATCHDOG_OK; /* none asked */
+  if (pid != NULL && strtol(pid, NULL, 10) != (long)getpid()) {
+    return PV_BOARD_WATCHDOG_OK; /* meant for another process */
+  }
   const unsigned long long half_us = period_us / 2 > 0 ? period_us / 2 : 1;
   const struct itimerspec every = {
       {(time_t)(half_us / 1000000u), (long)(half_us % 1000000u) * 1000L},
@@ -61,10 +94,10 @@ int pv_board_watchdog_start(pv_board_app_t *app, char *err, size_t errcap) {
   if (g_timer < 0 || timerfd_settime(g_timer, 0, &every, NULL) != 0 ||
       pv_board_app_watch(app, g_timer, POLLIN, on_timer, NULL) != 0) {
     snprintf(err, errcap, "systemd: cannot set up the watchdog timer (%s)", strerror(errno));
-    return -1;
+    return PV_BOARD_WATCHDOG_ERR_TIMER;
   }
   printf("pitvol-board: systemd watchdog, a ping every %llu ms\n", half_us / 1000u);
-  return 0;
+  return PV_BOARD_WATCHDOG_OK;
 }
 
 void pv_board_watchdog_stop(void) {

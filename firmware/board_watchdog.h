@@ -18,10 +18,25 @@
 extern "C" {
 #endif
 
+/* 0, then 901 .. 949: PV_STATUS_BASE_WATCHDOG (pitvol/status_codes.h). */
+typedef enum pv_board_watchdog_status {
+  PV_BOARD_WATCHDOG_OK = 0,
+  PV_BOARD_WATCHDOG_ERR_SOCKET_PATH = 901, /* $NOTIFY_SOCKET is not a socket path */
+  PV_BOARD_WATCHDOG_ERR_NOTIFY = 902,      /* READY=1 could not be sent */
+  PV_BOARD_WATCHDOG_ERR_TIMER = 903        /* the ping timer could not be set up */
+} pv_board_watchdog_status_t;
+
+/* The symbol ("PV_BOARD_WATCHDOG_ERR_NOTIFY"). Never NULL. */
+const char *pv_board_watchdog_status_name(pv_board_watchdog_status_t status);
+/* What went wrong and what the user can do. Never NULL. */
+const char *pv_board_watchdog_status_message(pv_board_watchdog_status_t status);
+
 /* After pv_board_app_init: READY=1 and, if $WATCHDOG_USEC asks for one
- * (and $WATCHDOG_PID is this process or unset), the ping timer. 0, or -1
- * with a sentence in err. */
-PV_NODISCARD int pv_board_watchdog_start(pv_board_app_t *app, char *err, size_t errcap);
+ * (and $WATCHDOG_PID is this process or unset), the ping timer.
+ * PV_BOARD_WATCHDOG_OK (also outside systemd), or the fault with a
+ * sentence in err (the socket, the system's reason). */
+PV_NODISCARD pv_board_watchdog_status_t pv_board_watchdog_start(pv_board_app_t *app, char *err,
+                                                                size_t errcap);
 /* Closes the timer and the socket (after the loop has ended). */
 void pv_board_watchdog_stop(void);
 

@@ -3,11 +3,22 @@
 #include "board_link.h"
 #include "board_watchdog.h"
 
+#include <stdio.h>
+#include <string.h>
+
 static pv_board_link_t g_link; /* the serial link and result log: static, no allocation */
 
 static int after_init(pv_board_app_t *app, char *err, size_t errcap) {
   if (pv_board_link_start(&g_link, app, -1, err, errcap) != 0) return -1;
-  return pv_board_watchdog_start(app, err, errcap);
+  const pv_board_watchdog_status_t st = pv_board_watchdog_start(app, err, errcap);
+  if (st != PV_BOARD_WATCHDOG_OK) {
+    /* The log names the fault; the board does not run unwatched under a
+     * unit that asked for a watchdog. */
+    const size_t n = strnlen(err, errcap);
+    if (n < errcap) snprintf(err + n, errcap - n, " [%s]", pv_board_watchdog_status_name(st));
+    return -1;
+  }
+  return 0;
 }
 static void after_run(pv_board_app_t *app) {
   (void)app;

@@ -22,19 +22,19 @@ size_t pv_canvas_bytes(uint16_t width, uint16_t height, size_t text_cap) {
   return (size_t)width * height + text_cap;
 }
 
-int pv_canvas_init(pv_canvas_t *c, uint16_t width, uint16_t height, size_t text_cap, void *mem,
-                   size_t bytes) {
-  if (c == NULL || mem == NULL || width == 0 || height == 0 || text_cap < 2 ||
-      bytes < pv_canvas_bytes(width, height, text_cap)) {
-    return -1;
+pv_display_status_t pv_canvas_init(pv_canvas_t *c, uint16_t width, uint16_t height,
+                                   size_t text_cap, void *mem, size_t bytes) {
+  if (c == NULL || mem == NULL || width == 0 || height == 0 || text_cap < 2) {
+    return PV_DISPLAY_ERR_INVALID_ARGUMENT;
   }
+  if (bytes < pv_canvas_bytes(width, height, text_cap)) return PV_DISPLAY_ERR_CANVAS_MEMORY;
   c->px = (uint8_t *)mem;
   c->width = width;
   c->height = height;
   c->text = (char *)mem + (size_t)width * height;
   c->text_cap = text_cap;
   pv_canvas_clear(c, PV_COLOR_WHITE);
-  return 0;
+  return PV_DISPLAY_OK;
 }
 
 void pv_canvas_clear(pv_canvas_t *c, pv_color_t ground) {

@@ -133,19 +133,19 @@ static int path_of(const png_display_t *p, const char *screen, const char *ext, 
   return n > 0 && (size_t)n < cap ? 0 : -1;
 }
 
-static int png_present(pv_display_t *d, const pv_canvas_t *c, const char *screen, char *err,
-                       size_t errcap) {
+static pv_display_status_t png_present(pv_display_t *d, const pv_canvas_t *c, const char *screen,
+                                       char *err, size_t errcap) {
   png_display_t *p = (png_display_t *)d;
   char final_path[PATH_MAX], tmp[PATH_MAX];
   if (path_of(p, screen, ".png", final_path, sizeof final_path) != 0 ||
       path_of(p, screen, ".png.tmp", tmp, sizeof tmp) != 0) {
     snprintf(err, errcap, "display: PNG path too long");
-    return -1;
+    return PV_DISPLAY_ERR_PATH_TOO_LONG;
   }
   p->fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (p->fd < 0) {
     snprintf(err, errcap, "cannot write %s: %s", tmp, strerror(errno));
-    return -1;
+    return PV_DISPLAY_ERR_WRITE;
   }
   p->write_failed = 0;
   const int r = encode(p, c);
@@ -157,19 +157,19 @@ static int png_present(pv_display_t *d, const pv_canvas_t *c, const char *screen
              : p->error[0]      ? p->error
                                 : strerror(errno));
     unlink(tmp);
-    return -1;
+    return PV_DISPLAY_ERR_WRITE;
   }
   if (path_of(p, screen, ".txt", final_path, sizeof final_path) != 0 ||
       path_of(p, screen, ".txt.tmp", tmp, sizeof tmp) != 0) {
     snprintf(err, errcap, "display: text path too long");
-    return -1;
+    return PV_DISPLAY_ERR_PATH_TOO_LONG;
   }
   const int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   const int ok = fd >= 0 && write_all(fd, c->text, c->text_len) == 0;
   if (fd >= 0) close(fd);
   if (!ok || rename(tmp, final_path) != 0) {
     snprintf(err, errcap, "cannot write %s: %s", final_path, strerror(errno));
-    return -1;
+    return PV_DISPLAY_ERR_WRITE;
   }
   /* One write() per record: a reader of screens.log sees whole records. */
   p->presents++;
@@ -178,9 +178,9 @@ static int png_present(pv_display_t *d, const pv_canvas_t *c, const char *screen
   const size_t len = n < 0 ? 0 : ((size_t)n < sizeof p->record ? (size_t)n : sizeof p->record - 1);
   if (write_all(p->log_fd, p->record, len) != 0) {
     snprintf(err, errcap, "cannot append to %s/screens.log: %s", p->dir, strerror(errno));
-    return -1;
+    return PV_DISPLAY_ERR_WRITE;
   }
-  return 0;
+  return PV_DISPLAY_OK;
 }
 
 static void png_close(pv_display_t *d) {
@@ -192,16 +192,16 @@ static void png_close(pv_display_t *d) {
 
 static const pv_display_ops_t kPngOps = {png_present, png_close};
 
-int pv_display_open_png(pv_display_t **out, const char *dir, uint16_t width, uint16_t height,
-                        char *err, size_t errcap) {
+pv_display_status_t pv_display_open_png(pv_display_t **out, const char *dir, uint16_t width,
+                                        uint16_t height, char *err, size_t errcap) {
   if (dir == NULL || dir[0] == '\0') {
     snprintf(err, errcap, "display png: give a directory (png:DIR)");
-    return -1;
+    return PV_DISPLAY_ERR_SPEC;
   }
   png_display_t *p = (png_display_t *)calloc(1, sizeof *p);
   if (p == NULL) {
     snprintf(err, errcap, "display: out of memory");
-    return -1;
+    return PV_DISPLAY_ERR_NO_MEMORY;
   }
   p->base.ops = &kPngOps;
   p->base.width = width;
@@ -211,22 +211,27 @@ int pv_display_open_png(pv_display_t **out, const char *dir, uint16_t width, uin
   if ((size_t)snprintf(p->dir, sizeof p->dir, "%s", dir) >= sizeof p->dir) {
     snprintf(err, errcap, "display png: directory name too long");
     png_close(&p->base);
-    return -1;
+    return PV_DISPLAY_ERR_PATH_TOO_LONG;
   }
   if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
     snprintf(err, errcap, "cannot create the screen directory %s: %s", dir, strerror(errno));
     png_close(&p->base);
-    return -1;
+    return PV_DISPLAY_ERR_OPEN;
   }
   char path[PATH_MAX];
   snprintf(path, sizeof path, "%s/screens.log", dir);
   p->log_fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
   p->arena = (uint8_t *)malloc(PNG_ARENA_BYTES);
-  if (p->log_fd < 0 || p->arena == NULL) {
+  if (p->arena == NULL) {
+    snprintf(err, errcap, "display png: no memory for libpng's working memory");
+    png_close(&p->base);
+    return PV_DISPLAY_ERR_NO_MEMORY;
+  }
+  if (p->log_fd < 0) {
     snprintf(err, errcap, "cannot write %s: %s", path, strerror(errno));
     png_close(&p->base);
-    return -1;
+    return PV_DISPLAY_ERR_WRITE;
   }
   *out = &p->base;
-  return 0;
+  return PV_DISPLAY_OK;
 }

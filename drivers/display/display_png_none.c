@@ -5,13 +5,13 @@
 
 #include "display_backend.h"
 
-int pv_display_open_png(pv_display_t **out, const char *dir, uint16_t width, uint16_t height,
-                        char *err, size_t errcap) {
+pv_display_status_t pv_display_open_png(pv_display_t **out, const char *dir, uint16_t width,
+                                        uint16_t height, char *err, size_t errcap) {
   (void)dir;
   (void)width;
   (void)height;
   *out = NULL;
   snprintf(err, errcap, "display png: this build has no PNG backend (libpng was not found "
                         "for the target); use fbdev:/dev/fbN");
-  return -1;
+  return PV_DISPLAY_ERR_NO_PNG;
 }

@@ -46,28 +46,18 @@ static size_t utf8_decode(const uint8_t *p, const uint8_t *end, uint32_t *cp) {
   return n;
 }
 
-int pv_font_parse_psf2(pv_font_t *f, const uint8_t *data, size_t len, const char **why) {
-  const char *dummy;
-  if (why == NULL) why = &dummy;
-  if (f == NULL || data == NULL || len < 32) {
-    *why = "font shorter than a PSF2 header";
-    return -1;
-  }
-  if (pv_get_le32(data) != PSF2_MAGIC) {
-    *why = "not a PSF2 font (bad magic; PSF1 and gzip are not read: gunzip it first)";
-    return -1;
-  }
+pv_display_status_t pv_font_parse_psf2(pv_font_t *f, const uint8_t *data, size_t len) {
+  if (f == NULL || data == NULL) return PV_DISPLAY_ERR_INVALID_ARGUMENT;
+  if (len < 32 || pv_get_le32(data) != PSF2_MAGIC) return PV_DISPLAY_ERR_FONT_FORMAT;
   const uint32_t header = pv_get_le32(data + 8), flags = pv_get_le32(data + 12), count = pv_get_le32(data + 16),
                  per_glyph = pv_get_le32(data + 20), height = pv_get_le32(data + 24), width = pv_get_le32(data + 28);
   const uint32_t row_bytes = (width + 7u) / 8u;
   if (width == 0 || height == 0 || width > 64 || height > 128 || count == 0 || count > 65536 ||
       per_glyph != row_bytes * height) {
-    *why = "PSF2 header has an implausible glyph size or count";
-    return -1;
+    return PV_DISPLAY_ERR_FONT_HEADER;
   }
   if (header < 32 || header > len || (uint64_t)count * per_glyph > len - header) {
-    *why = "PSF2 font is truncated (glyphs run past the end)";
-    return -1;
+    return PV_DISPLAY_ERR_FONT_TRUNCATED;
   }
   memset(f, 0, sizeof *f);
   f->glyphs = data + header;
@@ -91,10 +81,7 @@ int pv_font_parse_psf2(pv_font_t *f, const uint8_t *data, size_t len, const char
         }
         uint32_t cp = 0;
         const size_t n = utf8_decode(p, end, &cp);
-        if (n == 0) {
-          *why = "PSF2 Unicode table has invalid UTF-8";
-          return -1;
-        }
+        if (n == 0) return PV_DISPLAY_ERR_FONT_UNICODE;
         p += n;
         if (!in_sequence && cp < 256 && !mapped[cp]) {
           f->latin1[cp] = (uint16_t)g;
@@ -109,12 +96,9 @@ int pv_font_parse_psf2(pv_font_t *f, const uint8_t *data, size_t len, const char
       mapped[cp] = 1;
     }
   }
-  if (!mapped['?'] || !mapped['0'] || !mapped['A']) {
-    *why = "PSF2 font lacks basic Latin glyphs";
-    return -1;
-  }
+  if (!mapped['?'] || !mapped['0'] || !mapped['A']) return PV_DISPLAY_ERR_FONT_GLYPHS;
   for (int cp = 0; cp < 256; ++cp) {
     if (!mapped[cp]) f->latin1[cp] = f->latin1['?'];
   }
-  return 0;
+  return PV_DISPLAY_OK;
 }

@@ -14,8 +14,10 @@ struct pv_input {
   int line_too_long;
 };
 
-int pv_input_read_evdev(struct pv_input *in, pv_key_t *keys, size_t cap, char *err, size_t errcap);
-int pv_input_read_pipe(struct pv_input *in, pv_key_t *keys, size_t cap, char *err, size_t errcap);
+pv_input_status_t pv_input_read_evdev(struct pv_input *in, pv_key_t *keys, size_t cap,
+                                      size_t *count, char *err, size_t errcap);
+pv_input_status_t pv_input_read_pipe(struct pv_input *in, pv_key_t *keys, size_t cap,
+                                     size_t *count);
 /* Maps an evdev key code to a button (PV_KEY_NONE if not a button). */
 pv_key_t pv_input_evdev_key(unsigned code);
 

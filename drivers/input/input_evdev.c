@@ -30,8 +30,10 @@ pv_key_t pv_input_evdev_key(unsigned code) {
   }
 }
 
-int pv_input_read_evdev(struct pv_input *in, pv_key_t *keys, size_t cap, char *err, size_t errcap) {
+pv_input_status_t pv_input_read_evdev(struct pv_input *in, pv_key_t *keys, size_t cap,
+                                      size_t *count, char *err, size_t errcap) {
   size_t n = 0;
+  *count = 0;
   struct input_event ev[16];
   while (n < cap) {
     const ssize_t r = read(in->fd, ev, sizeof ev);
@@ -40,15 +42,17 @@ int pv_input_read_evdev(struct pv_input *in, pv_key_t *keys, size_t cap, char *e
     if (r <= 0) {
       snprintf(err, errcap, "the buttons' input device went away (%s)",
                r == 0 ? "end of file" : strerror(errno));
-      return -1;
+      *count = n;
+      return PV_INPUT_ERR_GONE;
     }
-    const size_t count = (size_t)r / sizeof ev[0];
-    for (size_t i = 0; i < count && n < cap; ++i) {
+    const size_t events = (size_t)r / sizeof ev[0];
+    for (size_t i = 0; i < events && n < cap; ++i) {
       if (ev[i].type != EV_KEY || ev[i].value != 1) continue;
       const pv_key_t k = pv_input_evdev_key(ev[i].code);
       if (k != PV_KEY_NONE) keys[n++] = k;
     }
     if ((size_t)r < sizeof ev) break;
   }
-  return (int)n;
+  *count = n;
+  return PV_INPUT_OK;
 }

@@ -17,9 +17,9 @@ static pv_key_t word_key(const char *w) {
   return PV_KEY_NONE;
 }
 
-int pv_input_read_pipe(struct pv_input *in, pv_key_t *keys, size_t cap, char *err, size_t errcap) {
-  (void)err;
-  (void)errcap;
+/* Never fails: we hold a writer ourselves, so the pipe cannot go away. */
+pv_input_status_t pv_input_read_pipe(struct pv_input *in, pv_key_t *keys, size_t cap,
+                                     size_t *count) {
   size_t n = 0;
   char buf[128];
   for (;;) {
@@ -53,5 +53,6 @@ int pv_input_read_pipe(struct pv_input *in, pv_key_t *keys, size_t cap, char *er
       }
     }
   }
-  return (int)n;
+  *count = n;
+  return PV_INPUT_OK;
 }

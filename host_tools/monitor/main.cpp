@@ -86,7 +86,7 @@ int usage(const std::string &msg) {
 
 bool parse_number(const char *s, double *out) {
   char why[160];
-  return pv_parse_decimal(s, out, why, sizeof why) == 0;
+  return pv_parse_decimal(s, out, why, sizeof why) == PV_UI_OK;
 }
 
 // Prints each message the board sends, once per result id.
@@ -215,7 +215,7 @@ bool make_command(const std::string &name, const std::string &arg, pitvol_Messag
     // The syntax here (0x10, 1,5 or inf never reach the board as another
     // number); the range is the board's to check: its refusal names it.
     char why[160];
-    if (arg.empty() || pv_parse_decimal(arg.c_str(), &v, why, sizeof why) != 0) {
+    if (arg.empty() || pv_parse_decimal(arg.c_str(), &v, why, sizeof why) != PV_UI_OK) {
       *err = name + " needs a number (" + (name == "set-mass" ? "grams" : "percent of dry mass") + ")" +
              (arg.empty() ? "" : std::string(": ") + why);
       return false;
@@ -243,7 +243,7 @@ bool make_command(const std::string &name, const std::string &arg, pitvol_Messag
                : name == "set-location" ? pitvol_RecordField_RECORD_LOCATION : pitvol_RecordField_RECORD_OPERATOR;
   } else if (name == "set-max-dry-density" || name == "set-required-compaction") {
     char why[160];
-    if (arg.empty() || pv_parse_decimal(arg.c_str(), &v, why, sizeof why) != 0) {
+    if (arg.empty() || pv_parse_decimal(arg.c_str(), &v, why, sizeof why) != PV_UI_OK) {
       *err = name + " needs a number" + (arg.empty() ? "" : std::string(": ") + why);
       return false;
     }

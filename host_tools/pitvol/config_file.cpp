@@ -109,7 +109,7 @@ bool load_config_file(const std::string &path, pv_config_t *cfg, std::string *er
     const std::string key = trim(line.substr(0, eq));
     const std::string val = trim(line.substr(eq + 1));
     char why[256];
-    if (pv_config_field_set(cfg, key.c_str(), val.c_str(), why, sizeof why) != 0) return fail(why);
+    if (pv_config_field_set(cfg, key.c_str(), val.c_str(), why, sizeof why) != PV_UI_OK) return fail(why);
     line_of[key] = lineno;
   }
   const char *bad = nullptr;

@@ -54,30 +54,35 @@ const pv_config_field_t *pv_config_field_find(const char *name) {
   return NULL;
 }
 
-int pv_config_field_set(pv_config_t *cfg, const char *name, const char *value, char *err,
-                        size_t cap) {
+pv_ui_status_t pv_config_field_set(pv_config_t *cfg, const char *name, const char *value,
+                                   char *err, size_t cap) {
+  if (cfg == NULL || name == NULL || value == NULL) {
+    snprintf(err, cap, "no setting given");
+    return PV_UI_ERR_INVALID_ARGUMENT;
+  }
   if (strcmp(name, "method") == 0) {
     if (pv_method_from_name(value, &cfg->method) != PV_OK) {
       snprintf(err, cap, "method = %.40s is not a method (surface, paper or polar)", value);
-      return -1;
+      return PV_UI_ERR_UNKNOWN_METHOD;
     }
-    return 0;
+    return PV_UI_OK;
   }
   const pv_config_field_t *f = pv_config_field_find(name);
   if (f == NULL) {
     snprintf(err, cap, "unknown setting '%.60s' (docs/method.md lists them)", name);
-    return -1;
+    return PV_UI_ERR_UNKNOWN_SETTING;
   }
   char why[160];
   double v = 0;
-  if (pv_parse_decimal(value, &v, why, sizeof why) != 0) {
+  const pv_ui_status_t parsed = pv_parse_decimal(value, &v, why, sizeof why);
+  if (parsed != PV_UI_OK) {
     snprintf(err, cap, "%s = %s", name, why);
-    return -1;
+    return parsed;
   }
   if (!f->is_float && v != floor(v)) {
     snprintf(err, cap, "%s = %.40s is not a whole number (allowed: %.9g .. %.9g)", name, value, f->min,
              f->max);
-    return -1;
+    return PV_UI_ERR_NOT_WHOLE;
   }
   /* The float as the core will hold it decides (0.1 is 0.1f). */
   const double held = f->is_float ? (double)(float)v : v;
@@ -85,7 +90,7 @@ int pv_config_field_set(pv_config_t *cfg, const char *name, const char *value, c
   const double hi = f->is_float ? (double)(float)f->max : f->max;
   if (!(held >= lo && held <= hi)) {
     snprintf(err, cap, "%s = %.40s is outside the allowed %.9g .. %.9g", name, value, f->min, f->max);
-    return -1;
+    return PV_UI_ERR_OUT_OF_RANGE;
   }
   char *base = (char *)cfg + f->offset;
   if (f->is_float) {
@@ -95,5 +100,5 @@ int pv_config_field_set(pv_config_t *cfg, const char *name, const char *value, c
     const uint32_t x = (uint32_t)v;
     memcpy(base, &x, sizeof x);
   }
-  return 0;
+  return PV_UI_OK;
 }

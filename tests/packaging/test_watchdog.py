@@ -4,7 +4,9 @@ board (no scanner, PNG display, no buttons, no link) with NOTIFY_SOCKET,
 WATCHDOG_USEC and WATCHDOG_PID as systemd sets them for Type=notify and
 WatchdogSec=, and checks READY=1, then WATCHDOG=1 every half period, none
 while the process is stopped (what makes systemd restart a hung board),
-and a clean exit on SIGTERM.
+and a clean exit on SIGTERM. Then the board under a unit whose notify
+socket is not usable: it must refuse to start (exit 3) and name the fault
+by its code (PV_BOARD_WATCHDOG_ERR_*, docs/errors.md).
 
 usage: test_watchdog.py WORK_DIR [RUNNER ...] PITVOL_BOARD
 RUNNER: e.g. qemu-aarch64-static LOADER --library-path DIR (the board build).
@@ -39,6 +41,21 @@ def collect(sock, seconds):
             return got
 
 
+def board_args(work):
+    return ["--display", "png:" + os.path.join(work, "screens"), "--input", "none",
+            "--set", "serial=none", "--set", "result_log=none"]
+
+
+def refuses(work, command, notify_socket, code):
+    """The board with NOTIFY_SOCKET=notify_socket exits 3 naming code."""
+    env = dict(os.environ, NOTIFY_SOCKET=notify_socket)
+    r = subprocess.run(command + board_args(work), env=env, stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT, text=True, timeout=60)
+    if r.returncode != 3 or f"[{code}]" not in r.stdout:
+        fail(f"NOTIFY_SOCKET={notify_socket}: exit {r.returncode}, want 3 and [{code}]:\n{r.stdout}")
+    print(f"ok: NOTIFY_SOCKET={notify_socket} refused with {code}")
+
+
 def main(argv):
     work, command = argv[0], argv[1:]
     os.makedirs(work, exist_ok=True)
@@ -51,9 +68,7 @@ def main(argv):
     # WATCHDOG_PID is the service's main PID, set between fork and exec as
     # systemd does: the shell's $$, kept by exec (and by qemu-user).
     board = subprocess.Popen(
-        ["sh", "-c", 'WATCHDOG_PID=$$ exec "$@"', "sh"] + command +
-        ["--display", "png:" + os.path.join(work, "screens"), "--input", "none",
-         "--set", "serial=none", "--set", "result_log=none"],
+        ["sh", "-c", 'WATCHDOG_PID=$$ exec "$@"', "sh"] + command + board_args(work),
         env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
         sock.settimeout(30)  # the board's start under qemu on a busy machine
@@ -88,6 +103,8 @@ def main(argv):
     if "systemd watchdog, a ping every 200 ms" not in out:
         fail(f"the board did not report its watchdog:\n{out}")
     print("ok: clean exit on SIGTERM;", out.strip().splitlines()[-1])
+    refuses(work, command, "relative/notify.sock", "PV_BOARD_WATCHDOG_ERR_SOCKET_PATH")
+    refuses(work, command, os.path.join(work, "no-such.sock"), "PV_BOARD_WATCHDOG_ERR_NOTIFY")
     return 0
 
 

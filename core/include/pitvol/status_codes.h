@@ -5,9 +5,9 @@
  * enum: 0 is success in every module, every other value lies in the
  * module's range below, so a number in a log names its module. Each enum
  * has a name function (the symbol) and a message function (what went wrong
- * and what to do). A function whose failure can only be shown (opening the
- * display, reading the board's configuration) returns 0 or -1 and writes
- * that sentence into its err argument instead.
+ * and what to do). Where the particulars matter to the user (a path, a
+ * line of a file, the system's reason) the function also writes them into
+ * its err argument, one sentence.
  *
  * Header only and free of dependencies: the core and every module above it
  * include it.
@@ -38,5 +38,12 @@
 #define PV_STATUS_BASE_LOG 400     /* pv_log_status_t */
 #define PV_STATUS_BASE_LINK 500    /* pv_link_status_t */
 #define PV_STATUS_BASE_DENSITY 600 /* pv_density_status_t */
+/* The board's own modules, 50 codes each. */
+#define PV_STATUS_BASE_DISPLAY 700      /* pv_display_status_t (drivers/display) */
+#define PV_STATUS_BASE_INPUT 750        /* pv_input_status_t (drivers/input, the buttons) */
+#define PV_STATUS_BASE_UI 800           /* pv_ui_status_t (lib/ui: typed numbers, settings) */
+#define PV_STATUS_BASE_BOARD_CONFIG 850 /* pv_board_config_status_t (firmware) */
+#define PV_STATUS_BASE_WATCHDOG 900     /* pv_board_watchdog_status_t (firmware) */
+#define PV_STATUS_BASE_END 950          /* the first code no module has */
 
 #endif /* PITVOL_STATUS_CODES_H */

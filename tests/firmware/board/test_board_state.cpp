@@ -130,7 +130,7 @@ void config_file_parses_and_rejects(void **) {
   std::fputs("# board\nusb_vendor = 0x1234\ndisplay = png:out  # host\ndisplay_width = 480\n"
              "units = l\ncore.method = polar\ncore.layer_mm = 1.0\ncore.max_layers = 900\n", f);
   std::fclose(f);
-  assert_int_equal(pv_board_config_load(&c, path, err, sizeof err), 0);
+  assert_int_equal(pv_board_config_load(&c, path, err, sizeof err), PV_BOARD_CONFIG_OK);
   assert_int_equal(c.usb_vendor, 0x1234);
   assert_string_equal(c.display, "png:out");
   assert_int_equal(c.display_width, 480);
@@ -138,36 +138,59 @@ void config_file_parses_and_rejects(void **) {
   assert_int_equal(c.core.method, PV_METHOD_POLAR);
   assert_true(c.core.layer_mm == 1.0f);
   assert_int_equal(c.core.max_layers, 900u);
-  assert_int_equal(pv_board_config_check(&c, err, sizeof err), 0);
+  assert_int_equal(pv_board_config_check(&c, err, sizeof err), PV_BOARD_CONFIG_OK);
 
   f = std::fopen(path, "w");
   std::fputs("units = cm3\nbogus = 1\n", f);
   std::fclose(f);
-  assert_int_equal(pv_board_config_load(&c, path, err, sizeof err), -1);
+  assert_int_equal(pv_board_config_load(&c, path, err, sizeof err), PV_BOARD_CONFIG_ERR_UNKNOWN_KEY);
   assert_non_null(std::strstr(err, ":2: unknown key 'bogus'"));
-  assert_int_equal(pv_board_config_set(&c, "usb_product", "70000", err, sizeof err), -1);
-  assert_int_equal(pv_board_config_set(&c, "core.knn_k", "-3", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "usb_product", "70000", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
+  assert_int_equal(pv_board_config_set(&c, "core.knn_k", "-3", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
   assert_string_equal(err, "core.knn_k = -3 is outside the allowed 2 .. 32");
-  assert_int_equal(pv_board_config_set(&c, "core.nope", "1", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "core.nope", "1", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_UNKNOWN_KEY);
+  // A line without '=' and a file that is not there.
+  f = std::fopen(path, "w");
+  std::fputs("units = cm3\nunits cm3\n", f);
+  std::fclose(f);
+  assert_int_equal(pv_board_config_load(&c, path, err, sizeof err), PV_BOARD_CONFIG_ERR_SYNTAX);
+  assert_non_null(std::strstr(err, ":2: expected 'key = value'"));
+  assert_int_equal(pv_board_config_load(&c, "no-such-board.conf", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_OPEN);
+  assert_non_null(std::strstr(err, "no-such-board.conf: cannot open the board configuration"));
+  assert_non_null(std::strstr(pv_board_config_status_message(PV_BOARD_CONFIG_ERR_OPEN), "--config"));
+  const std::string long_path(300, 'p');
+  assert_int_equal(pv_board_config_set(&c, "display", long_path.c_str(), err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_TOO_LONG);
   // One line with the key, the value and the allowed range; a decimal
   // comma, hexadecimal and inf are refused, not read as other numbers.
   f = std::fopen(path, "w");
   std::fputs("units = cm3\n\ncore.layer_mm = 9\n", f);
   std::fclose(f);
-  assert_int_equal(pv_board_config_load(&c, path, err, sizeof err), -1);
+  assert_int_equal(pv_board_config_load(&c, path, err, sizeof err), PV_BOARD_CONFIG_ERR_VALUE);
   assert_non_null(std::strstr(err, "test_board_config.conf:3: core.layer_mm = 9 is outside the allowed 0.1 .. 2"));
   assert_null(std::strchr(err, '\n'));
-  assert_int_equal(pv_board_config_set(&c, "core.layer_mm", "0,5", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "core.layer_mm", "0,5", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
   assert_non_null(std::strstr(err, "write decimals with a point"));
-  assert_int_equal(pv_board_config_set(&c, "core.layer_mm", "0x1", err, sizeof err), -1);
-  assert_int_equal(pv_board_config_set(&c, "core.max_unseen_share", "inf", err, sizeof err), -1);
-  assert_int_equal(pv_board_config_set(&c, "core.knn_k", "8.5", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "core.layer_mm", "0x1", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
+  assert_int_equal(pv_board_config_set(&c, "core.max_unseen_share", "inf", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
+  assert_int_equal(pv_board_config_set(&c, "core.knn_k", "8.5", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
   assert_non_null(std::strstr(err, "not a whole number (allowed: 2 .. 32)"));
-  assert_int_equal(pv_board_config_set(&c, "units", "m3", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "units", "m3", err, sizeof err), PV_BOARD_CONFIG_ERR_VALUE);
   assert_string_equal(err, "units = m3 must be cm3 or l");
   c.core.layer_mm = 50.0f;  // out of the core's range
-  assert_int_equal(pv_board_config_check(&c, err, sizeof err), -1);
+  assert_int_equal(pv_board_config_check(&c, err, sizeof err), PV_BOARD_CONFIG_ERR_CORE);
   assert_non_null(std::strstr(err, "core.layer_mm"));
+  c.core.layer_mm = 1.0f;
+  c.display_height = 200;
+  assert_int_equal(pv_board_config_check(&c, err, sizeof err), PV_BOARD_CONFIG_ERR_DISPLAY_SIZE);
   std::remove(path);
 }
 
@@ -259,13 +282,13 @@ std::string screen_text(const pv_board_model_t &m, pv_board_units_t units = PV_U
   static pv_board_fonts_t fonts;
   static bool parsed = false;
   if (!parsed) {
-    assert_int_equal(pv_font_parse_psf2(&fonts.body, pv_font_10x20, pv_font_10x20_bytes, nullptr), 0);
-    assert_int_equal(pv_font_parse_psf2(&fonts.big, pv_font_16x32, pv_font_16x32_bytes, nullptr), 0);
+    assert_int_equal(pv_font_parse_psf2(&fonts.body, pv_font_10x20, pv_font_10x20_bytes), PV_DISPLAY_OK);
+    assert_int_equal(pv_font_parse_psf2(&fonts.big, pv_font_16x32, pv_font_16x32_bytes), PV_DISPLAY_OK);
     parsed = true;
   }
   std::vector<uint8_t> mem(pv_canvas_bytes(320, 240, 4096));
   pv_canvas_t c;
-  assert_int_equal(pv_canvas_init(&c, 320, 240, 4096, mem.data(), mem.size()), 0);
+  assert_int_equal(pv_canvas_init(&c, 320, 240, 4096, mem.data(), mem.size()), PV_DISPLAY_OK);
   pv_board_draw(&c, &m, &fonts, units);
   assert_false(c.text_truncated);
   return c.text;
@@ -420,7 +443,7 @@ void screens_say_what_matters(void **) {
 // would hide its upper end).
 bool body_lines_fit(const std::string &text) {
   pv_font_t body;
-  assert_int_equal(pv_font_parse_psf2(&body, pv_font_10x20, pv_font_10x20_bytes, nullptr), 0);
+  assert_int_equal(pv_font_parse_psf2(&body, pv_font_10x20, pv_font_10x20_bytes), PV_DISPLAY_OK);
   size_t at = 0;
   bool ok = true;
   while (at < text.size()) {
@@ -492,21 +515,27 @@ void link_config_keys(void **) {
   assert_string_equal(c.serial, "none");
   assert_string_equal(c.result_log, "none");
   assert_int_equal(c.serial_baud, 115200u);
-  assert_int_equal(pv_board_config_set(&c, "serial_baud", "57600", err, sizeof err), 0);
+  assert_int_equal(pv_board_config_set(&c, "serial_baud", "57600", err, sizeof err), PV_BOARD_CONFIG_OK);
   assert_int_equal(c.serial_baud, 57600u);
-  assert_int_equal(pv_board_config_set(&c, "serial_baud", "12345", err, sizeof err), -1);
-  assert_int_equal(pv_board_config_set(&c, "result_log", "/var/lib/pitvol", err, sizeof err), 0);
+  assert_int_equal(pv_board_config_set(&c, "serial_baud", "12345", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
+  assert_int_equal(pv_board_config_set(&c, "result_log", "/var/lib/pitvol", err, sizeof err), PV_BOARD_CONFIG_OK);
   assert_string_equal(c.result_log, "/var/lib/pitvol");
-  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "1850", err, sizeof err), 0);
+  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "1850", err, sizeof err), PV_BOARD_CONFIG_OK);
   assert_true(c.max_dry_density_kg_m3 == 1850.0);
-  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "0", err, sizeof err), 0);
-  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "185", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "0", err, sizeof err), PV_BOARD_CONFIG_OK);
+  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "185", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
   assert_non_null(std::strstr(err, "1000 .. 2800 kg/m3"));
-  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "1,85", err, sizeof err), -1);
-  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "0x700", err, sizeof err), -1);
-  assert_int_equal(pv_board_config_set(&c, "device_id", "PV-0001", err, sizeof err), 0);
-  assert_int_equal(pv_board_config_set(&c, "device_id", "a-device-id-of-thirty-characters", err, sizeof err), -1);
-  assert_int_equal(pv_board_config_set(&c, "device_id", "PV\x1b[2J", err, sizeof err), -1);
+  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "1,85", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
+  assert_int_equal(pv_board_config_set(&c, "max_dry_density_kg_m3", "0x700", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
+  assert_int_equal(pv_board_config_set(&c, "device_id", "PV-0001", err, sizeof err), PV_BOARD_CONFIG_OK);
+  assert_int_equal(pv_board_config_set(&c, "device_id", "a-device-id-of-thirty-characters", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_TOO_LONG);
+  assert_int_equal(pv_board_config_set(&c, "device_id", "PV\x1b[2J", err, sizeof err),
+                   PV_BOARD_CONFIG_ERR_VALUE);
   assert_non_null(std::strstr(err, "control character"));
 }
 

@@ -15,7 +15,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "pitvol/status_codes.h"
+#include "pitvol/display_status.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -46,10 +46,10 @@ typedef struct pv_font {
   uint16_t latin1[256]; /* code point 0..255 -> glyph ('?' glyph if none) */
 } pv_font_t;
 
-/* Parses a PSF2 font (uncompressed). 0 on success, else -1 and a reason in
- * *why (static text). Uses the font's Unicode table when it has one. */
-PV_NODISCARD int pv_font_parse_psf2(pv_font_t *f, const uint8_t *data, size_t len,
-                                    const char **why);
+/* Parses a PSF2 font (uncompressed); uses its Unicode table when it has
+ * one. PV_DISPLAY_OK, PV_DISPLAY_ERR_INVALID_ARGUMENT or one of
+ * PV_DISPLAY_ERR_FONT_* (pv_display_status_message says which fault). */
+PV_NODISCARD pv_display_status_t pv_font_parse_psf2(pv_font_t *f, const uint8_t *data, size_t len);
 
 typedef struct pv_canvas {
   uint8_t *px;          /* width * height palette indices, row-major */
@@ -61,9 +61,11 @@ typedef struct pv_canvas {
 
 /* Bytes of memory a canvas needs (pixels + text_cap of text log). */
 size_t pv_canvas_bytes(uint16_t width, uint16_t height, size_t text_cap);
-/* Lays the canvas out in mem (pv_canvas_bytes bytes). 0 or -1. */
-PV_NODISCARD int pv_canvas_init(pv_canvas_t *c, uint16_t width, uint16_t height, size_t text_cap,
-                                void *mem, size_t bytes);
+/* Lays the canvas out in mem (pv_canvas_bytes bytes). PV_DISPLAY_OK,
+ * PV_DISPLAY_ERR_INVALID_ARGUMENT (NULL, zero size, text_cap < 2) or
+ * PV_DISPLAY_ERR_CANVAS_MEMORY. */
+PV_NODISCARD pv_display_status_t pv_canvas_init(pv_canvas_t *c, uint16_t width, uint16_t height,
+                                                size_t text_cap, void *mem, size_t bytes);
 
 /* Clears pixels and the text log. */
 void pv_canvas_clear(pv_canvas_t *c, pv_color_t ground);

@@ -19,7 +19,7 @@
 #include <stdint.h>
 
 #include "pitvol/canvas.h"
-#include "pitvol/status_codes.h"
+#include "pitvol/display_status.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -27,13 +27,19 @@ extern "C" {
 
 typedef struct pv_display pv_display_t;
 
-/* 0 on success; else -1 with a sentence in err (what failed, what to do). */
-PV_NODISCARD int pv_display_open(pv_display_t **out, const char *spec, uint16_t width,
-                                 uint16_t height, char *err, size_t errcap);
+/* PV_DISPLAY_OK, or the fault with one sentence in err that adds the
+ * particulars (the device or directory, the system's reason):
+ * PV_DISPLAY_ERR_INVALID_ARGUMENT, _SPEC, _NO_MEMORY, _OPEN, _FB_DEVICE,
+ * _FB_FORMAT, _WRITE (screens.log), _PATH_TOO_LONG, _NO_PNG. */
+PV_NODISCARD pv_display_status_t pv_display_open(pv_display_t **out, const char *spec,
+                                                 uint16_t width, uint16_t height, char *err,
+                                                 size_t errcap);
 /* Shows the canvas; screen names the screen (file name in the PNG backend).
- * 0 or -1 with a sentence in err. */
-PV_NODISCARD int pv_display_present(pv_display_t *d, const pv_canvas_t *c, const char *screen,
-                                    char *err, size_t errcap);
+ * PV_DISPLAY_OK, or PV_DISPLAY_ERR_INVALID_ARGUMENT, _WRITE, _PATH_TOO_LONG,
+ * _FB_FORMAT with one sentence in err. */
+PV_NODISCARD pv_display_status_t pv_display_present(pv_display_t *d, const pv_canvas_t *c,
+                                                    const char *screen, char *err,
+                                                    size_t errcap);
 void pv_display_close(pv_display_t *d);
 
 /* Framebuffer pixel layout: one colour channel's bit offset and length. */
@@ -45,10 +51,11 @@ typedef struct pv_fb_format {
 } pv_fb_format_t;
 
 /* Converts the canvas into a framebuffer of that layout (line_bytes per
- * row); the fbdev backend's present(), exposed for tests. 0 or -1 if the
- * layout is not supported. */
-PV_NODISCARD int pv_fb_blit(const pv_canvas_t *c, const pv_fb_format_t *fmt, uint8_t *fb,
-                            size_t line_bytes);
+ * row); the fbdev backend's present(), exposed for tests. PV_DISPLAY_OK,
+ * PV_DISPLAY_ERR_INVALID_ARGUMENT (NULL, rows shorter than the canvas) or
+ * PV_DISPLAY_ERR_FB_FORMAT (a layout it does not convert to). */
+PV_NODISCARD pv_display_status_t pv_fb_blit(const pv_canvas_t *c, const pv_fb_format_t *fmt,
+                                            uint8_t *fb, size_t line_bytes);
 
 #ifdef __cplusplus
 }

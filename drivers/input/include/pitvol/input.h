@@ -35,16 +35,36 @@ typedef enum pv_key {
   PV_KEY_BACK = 3
 } pv_key_t;
 
+/* 0, then 751 .. 799: PV_STATUS_BASE_INPUT (pitvol/status_codes.h). */
+typedef enum pv_input_status {
+  PV_INPUT_OK = 0,
+  PV_INPUT_ERR_INVALID_ARGUMENT = 751, /* NULL */
+  PV_INPUT_ERR_SPEC = 752,             /* the spec names no backend (evdev:, pipe:, none) */
+  PV_INPUT_ERR_NO_MEMORY = 753,
+  PV_INPUT_ERR_OPEN = 754,             /* the evdev device or the named pipe cannot be opened */
+  PV_INPUT_ERR_PIPE = 755,             /* the named pipe cannot be created */
+  PV_INPUT_ERR_GONE = 756              /* the evdev device went away (unplugged, read error) */
+} pv_input_status_t;
+
+/* The symbol ("PV_INPUT_ERR_OPEN"). Never NULL. */
+const char *pv_input_status_name(pv_input_status_t status);
+/* What went wrong and what the user can do. Never NULL. */
+const char *pv_input_status_message(pv_input_status_t status);
+
 typedef struct pv_input pv_input_t;
 
-/* 0 on success; else -1 with a sentence in err. */
-PV_NODISCARD int pv_input_open(pv_input_t **out, const char *spec, char *err, size_t errcap);
+/* PV_INPUT_OK, or PV_INPUT_ERR_INVALID_ARGUMENT, _SPEC, _NO_MEMORY, _OPEN,
+ * _PIPE with one sentence in err that adds the device and the system's
+ * reason. */
+PV_NODISCARD pv_input_status_t pv_input_open(pv_input_t **out, const char *spec, char *err,
+                                             size_t errcap);
 /* The descriptor to poll for POLLIN, or -1 for "none". */
 int pv_input_fd(const pv_input_t *in);
-/* Reads what is pending without blocking; writes up to cap keys, returns
- * how many. Returns -1 if the device went away (err says so). */
-PV_NODISCARD int pv_input_read(pv_input_t *in, pv_key_t *keys, size_t cap, char *err,
-                               size_t errcap);
+/* Reads what is pending without blocking; writes up to cap keys and their
+ * number to *count. PV_INPUT_OK, or PV_INPUT_ERR_GONE if the device went
+ * away (err says how; *count holds the keys read before). */
+PV_NODISCARD pv_input_status_t pv_input_read(pv_input_t *in, pv_key_t *keys, size_t cap,
+                                             size_t *count, char *err, size_t errcap);
 void pv_input_close(pv_input_t *in);
 const char *pv_key_name(pv_key_t k);
 

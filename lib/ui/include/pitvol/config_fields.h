@@ -12,6 +12,7 @@
 #include <stddef.h>
 
 #include "pitvol/pitvol.h"
+#include "pitvol/ui_status.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -31,10 +32,12 @@ extern const size_t pv_config_field_count;
 const pv_config_field_t *pv_config_field_find(const char *name);
 
 /* Sets one setting from its text ("method" = surface|paper|polar too).
- * 0, or -1 with one line in err: "unknown setting 'x'", "layer_mm = 9 is
- * outside 0.1 .. 2", "'0,5' is not a number: write decimals with a point". */
-PV_NODISCARD int pv_config_field_set(pv_config_t *cfg, const char *name, const char *value,
-                                     char *err, size_t cap);
+ * PV_UI_OK, or the fault with one line in err: PV_UI_ERR_UNKNOWN_SETTING
+ * ("unknown setting 'x'"), _UNKNOWN_METHOD, _OUT_OF_RANGE ("layer_mm = 9
+ * is outside 0.1 .. 2"), _NOT_WHOLE, or pv_parse_decimal's ("'0,5' is not
+ * a number: write decimals with a point"). */
+PV_NODISCARD pv_ui_status_t pv_config_field_set(pv_config_t *cfg, const char *name,
+                                                const char *value, char *err, size_t cap);
 
 #ifdef __cplusplus
 }

@@ -10,7 +10,7 @@
 
 #include <stddef.h>
 
-#include "pitvol/status_codes.h"
+#include "pitvol/ui_status.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -19,8 +19,10 @@ extern "C" {
 /* A decimal number as people write it: an optional sign, digits with at
  * most one decimal point, an optional exponent (1e3). Not hexadecimal
  * (0x10), not inf or nan, no thousands separators; a decimal comma (1,5)
- * is refused with a hint. 0, or -1 with a one-line reason in err. */
-PV_NODISCARD int pv_parse_decimal(const char *text, double *out, char *err, size_t cap);
+ * is refused with a hint. PV_UI_OK, or PV_UI_ERR_NUMBER_MISSING,
+ * _DECIMAL_COMMA, _NOT_A_NUMBER, _OVERFLOW with a one-line reason in err. */
+PV_NODISCARD pv_ui_status_t pv_parse_decimal(const char *text, double *out, char *err,
+                                             size_t cap);
 
 typedef enum pv_input_kind {
   PV_INPUT_MASS_G = 0,             /* wet mass of the excavated soil */
@@ -40,18 +42,20 @@ typedef struct pv_input_range {
 /* The plausible range of a kind (pitvol/density.h holds the numbers). */
 const pv_input_range_t *pv_input_range_of(pv_input_kind_t kind);
 
-/* 0 if v lies in the kind's range, else -1 with one line in err:
+/* PV_UI_OK if v lies in the kind's range, else PV_UI_ERR_OUT_OF_RANGE
+ * (or _INVALID_ARGUMENT for an unknown kind) with one line in err:
  * "mass 1e+308 g is outside 50 .. 100000 g (wet mass of the excavated soil)". */
-PV_NODISCARD int pv_input_check(pv_input_kind_t kind, double v, char *err, size_t cap);
+PV_NODISCARD pv_ui_status_t pv_input_check(pv_input_kind_t kind, double v, char *err, size_t cap);
 
-/* pv_parse_decimal, then pv_input_check; err names the kind. */
-PV_NODISCARD int pv_input_parse(pv_input_kind_t kind, const char *text, double *out, char *err,
-                                size_t cap);
+/* pv_parse_decimal, then pv_input_check; their status, err names the kind. */
+PV_NODISCARD pv_ui_status_t pv_input_parse(pv_input_kind_t kind, const char *text, double *out,
+                                           char *err, size_t cap);
 
 /* Text a user typed for the record (test id, location, operator): printable
- * characters only, at most cap - 1 bytes. 0, or -1 with a reason. */
-PV_NODISCARD int pv_input_text(const char *name, const char *text, char *out, size_t cap, char *err,
-                               size_t errcap);
+ * characters only, at most cap - 1 bytes. PV_UI_OK, or PV_UI_ERR_TOO_LONG,
+ * _CONTROL_CHAR (_INVALID_ARGUMENT for NULL) with a reason in err. */
+PV_NODISCARD pv_ui_status_t pv_input_text(const char *name, const char *text, char *out,
+                                          size_t cap, char *err, size_t errcap);
 
 #ifdef __cplusplus
 }
