@@ -63,19 +63,6 @@ static void volume_text(double cm3, pv_board_units_t units, char *num, size_t ca
   }
 }
 
-/* "301 989": thousands apart, easier to read at a glance. */
-static void grouped(uint64_t v, char *out, size_t cap) {
-  char raw[32];
-  snprintf(raw, sizeof raw, "%llu", (unsigned long long)v);
-  const size_t n = strlen(raw);
-  size_t o = 0;
-  for (size_t i = 0; i < n && o + 2 < cap; ++i) {
-    if (i > 0 && (n - i) % 3 == 0) out[o++] = ' ';
-    out[o++] = raw[i];
-  }
-  out[o] = '\0';
-}
-
 /* Coverage column: band 0 (floor) at the bottom, the rim at the top. */
 static void coverage_bars(pv_canvas_t *c, const pv_board_fonts_t *f, const pv_board_model_t *m,
                           int x, int y_top, int y_bottom, int w) {
@@ -138,7 +125,7 @@ static void draw_scanning(pv_canvas_t *c, const pv_board_model_t *m, const pv_bo
     y += 36;
     y = line(c, &f->body, y, PV_COLOR_GREY, "depth --");
   }
-  grouped(m->points, pts, sizeof pts);
+  pv_advice_grouped(m->points, pts, sizeof pts);
   y = line(c, &f->body, y, PV_COLOR_BLACK, "points %s", pts);
   const unsigned s = (unsigned)(m->scan_ms / 1000u);
   y = line(c, &f->body, y, PV_COLOR_BLACK, "time %u:%02u", s / 60u, s % 60u);
@@ -289,7 +276,7 @@ static void draw_refused(pv_canvas_t *c, const pv_board_model_t *m, const pv_boa
     y = line(c, &f->body, y + 4, PV_COLOR_RED, "%u board events lost", (unsigned)m->dropped_events);
   }
   char pts[32];
-  grouped(m->result.points_in, pts, sizeof pts);
+  pv_advice_grouped(m->result.points_in, pts, sizeof pts);
   line(c, &f->body, y + 4, PV_COLOR_GREY, "%s points", pts);
   pv_canvas_note(c, "refused status=%s", pv_status_name(m->result_status));
   legend(c, f, "ENTER: done   START: new scan");
@@ -340,7 +327,7 @@ void pv_board_draw(pv_canvas_t *c, const pv_board_model_t *m, const pv_board_fon
       title(c, f, "PAUSED", PV_COLOR_AMBER, PV_COLOR_BLACK, usb_word(m));
       pv_canvas_text(c, &f->big, 1, MARGIN, y, PV_COLOR_BLACK, "scanner unplugged");
       y += 44;
-      grouped(m->points, pts, sizeof pts);
+      pv_advice_grouped(m->points, pts, sizeof pts);
       y = line(c, &f->body, y, PV_COLOR_BLACK, "%s points kept", pts);
       y = line(c, &f->body, y + 4, PV_COLOR_BLACK, "plug in: scan resumes");
       line(c, &f->body, y + 4, PV_COLOR_BLACK, "or STOP: measure them");
@@ -348,7 +335,7 @@ void pv_board_draw(pv_canvas_t *c, const pv_board_model_t *m, const pv_board_fon
       break;
     case PV_BOARD_MEASURING:
       title(c, f, "MEASURING", PV_COLOR_BLUE, PV_COLOR_WHITE, usb_word(m));
-      grouped(m->points, pts, sizeof pts);
+      pv_advice_grouped(m->points, pts, sizeof pts);
       pv_canvas_text(c, &f->big, 1, MARGIN, y, PV_COLOR_BLACK, "please wait");
       y += 44;
       line(c, &f->body, y, PV_COLOR_BLACK, "%s points", pts);

@@ -36,8 +36,7 @@ static int lower_half(const pv_result_t *r, double lo, double hi) {
   return depth <= 0 || (lo + hi) / 2 < depth / 2;
 }
 
-/* "301 989": thousands apart, as the screens print counts. */
-static void grouped(uint64_t v, char *out, size_t cap) {
+void pv_advice_grouped(uint64_t v, char *out, size_t cap) {
   char raw[32];
   snprintf(raw, sizeof raw, "%llu", (unsigned long long)v);
   const size_t n = strlen(raw);
@@ -87,7 +86,7 @@ void pv_advice_refusal(const pv_result_t *r, pv_status_t st, pv_advice_t *out) {
   snprintf(text, cs, "%s", pv_status_message(st));
   if (pv_advice_too_few_points(r, st)) {
     char pts[32];
-    grouped(r->points_in, pts, sizeof pts);
+    pv_advice_grouped(r->points_in, pts, sizeof pts);
     snprintf(why, cw, "too few points (%s)", pts);
     snprintf(todo, ct, "rescan slowly, all round");
     snprintf(text, cs,

@@ -1,9 +1,10 @@
 // Numbers, text and settings a user types (pitvol/user_input.h,
 // pitvol/config_fields.h): each refusal by its code, with the sentence
-// that names the value and the range.
+// that names the value and the range; and counts as lib/ui prints them.
 #include <cstring>
 #include <string>
 
+#include "pitvol/advice.h"
 #include "pitvol/config_fields.h"
 #include "pitvol/user_input.h"
 
@@ -92,6 +93,21 @@ void every_code_has_a_name_and_a_message(void **) {
   assert_non_null(std::strstr(pv_ui_status_message(PV_UI_ERR_DECIMAL_COMMA), "1.5, not 1,5"));
 }
 
+// The board's screens and the advice print counts alike.
+void counts_with_thousands_apart(void **) {
+  char out[32];
+  pv_advice_grouped(301989, out, sizeof out);
+  assert_string_equal(out, "301 989");
+  pv_advice_grouped(1000, out, sizeof out);
+  assert_string_equal(out, "1 000");
+  pv_advice_grouped(999, out, sizeof out);
+  assert_string_equal(out, "999");
+  pv_advice_grouped(0, out, sizeof out);
+  assert_string_equal(out, "0");
+  pv_advice_grouped(12345678, out, 6);  // cut to the room there is, still terminated
+  assert_string_equal(out, "12 3");
+}
+
 }  // namespace
 
 int main() {
@@ -100,6 +116,7 @@ int main() {
       cmocka_unit_test(ranges_and_text),
       cmocka_unit_test(settings_by_their_fault),
       cmocka_unit_test(every_code_has_a_name_and_a_message),
+      cmocka_unit_test(counts_with_thousands_apart),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

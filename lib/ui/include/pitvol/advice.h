@@ -31,6 +31,10 @@ typedef struct pv_advice {
   char sentence[320];  /* for the CLI, the report, the monitor */
 } pv_advice_t;
 
+/* A count with its thousands apart ("301 989"), as the board's screens and
+ * the advice print it: easier to read at a glance. */
+void pv_advice_grouped(uint64_t v, char *out, size_t cap);
+
 /* The advice for a result whose status st is not PV_OK. */
 void pv_advice_refusal(const pv_result_t *r, pv_status_t st, pv_advice_t *out);
 
