@@ -21,8 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "pv_cmocka.h"
 #include "scanio/scan_reader.h"
+#include "test_session.h"
+
+#include "pv_cmocka.h"  // last: see pv_cmocka.h
 
 namespace {
 
@@ -32,22 +34,6 @@ constexpr double kRelTol = 1e-6;
 
 std::string g_dir;
 size_t g_every = 1;
-
-struct Block {
-  pv_config_t cfg;
-  size_t bytes = 0;
-  void *mem = nullptr;
-  pv_session_t *s = nullptr;
-  explicit Block(pv_method_t m) {
-    pv_config_default(&cfg);
-    cfg.method = m;
-    assert_int_equal(pv_session_size(&cfg, &bytes), PV_OK);
-    mem = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
-    assert_non_null(mem);
-    assert_int_equal(pv_session_init(&cfg, mem, bytes, &s), PV_OK);
-  }
-  ~Block() { std::free(mem); }
-};
 
 std::vector<pv_point_t> read_scan(const std::string &path) {
   pv::scanio::Error err;
@@ -75,10 +61,8 @@ std::vector<pv_point_t> frame_copy(const pv_point_t *p, size_t n, int c) {
 }
 
 pv_result_t measure_once(const std::vector<pv_point_t> &pts, pv_method_t m) {
-  Block b(m);
-  for (size_t i = 0; i < pts.size(); i += kFrame) {
-    assert_int_equal(pv_session_push(b.s, pts.data() + i, std::min(kFrame, pts.size() - i)), PV_OK);
-  }
+  TestSession b(m);
+  assert_int_equal(b.push_all(pts, kFrame), PV_OK);
   pv_result_t r{};
   // A refusal is a result too (compared below); the call must have made one.
   const pv_status_t st = pv_session_finish(b.s, &r);
@@ -87,7 +71,7 @@ pv_result_t measure_once(const std::vector<pv_point_t> &pts, pv_method_t m) {
 }
 
 pv_result_t measure_resent(const std::vector<pv_point_t> &pts, pv_method_t m) {
-  Block b(m);
+  TestSession b(m);
   const size_t frames = (pts.size() + kFrame - 1) / kFrame;
   auto send = [&](size_t k, int c) {
     const size_t from = k * kFrame, n = std::min(kFrame, pts.size() - from);

@@ -6,26 +6,6 @@
 
 namespace {
 
-// A session of the given method in its own block (session_support.h's
-// TestSession sizes the block for the default configuration).
-struct MethodSession {
-  pv_config_t cfg;
-  size_t bytes = 0;
-  void *block = nullptr;
-  pv_session_t *s = nullptr;
-  explicit MethodSession(pv_method_t m) {
-    pv_config_default(&cfg);
-    cfg.method = m;
-    assert_int_equal(pv_session_size(&cfg, &bytes), PV_OK);
-    block = std::aligned_alloc(PV_BLOCK_ALIGN, (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN);
-    assert_int_equal(pv_session_init(&cfg, block, bytes, &s), PV_OK);
-  }
-  ~MethodSession() { std::free(block); }
-  [[nodiscard]] pv_status_t push_all(const std::vector<pv_point_t> &pts) {
-    return pv_session_push(s, pts.data(), pts.size());
-  }
-};
-
 void matches_the_measurement(void **) {
   // paper with and without ground (rim from the ground peak / wall top);
   // surface with ground (re-levelled on the ring). 120k points: enough for
@@ -39,7 +19,7 @@ void matches_the_measurement(void **) {
     const double ground = run.ground;
     pv::synth::PitSpec spec;
     spec.ground_width_mm = ground;
-    MethodSession t(method);
+    TestSession t(method);
     assert_int_equal(t.push_all(scan_points(spec, 120000)), PV_OK);
     pv_result_t r;
     assert_int_equal(pv_session_finish(t.s, &r), PV_OK);
