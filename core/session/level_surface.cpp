@@ -1,18 +1,29 @@
-// Levelling for method surface: the volume is defined below the ground, so
-// a scan with a ground ring is levelled on it; without one, on the plane of
-// the wall's top edge. The paper's floor-plane levelling stays the start
-// (and the paper method's only levelling): a bowl or an uneven floor tilts
-// it by a degree or more (measured: bowls read +4.7 and +6.7 %, a bowl
-// without ground +1.9 %).
+// Levelling for method surface: the volume is defined below the opening,
+// so a scan is levelled on the plane of its opening: the ground ring, else
+// the plane of the wall's top edge, else (rim/support_plane.h) the plane
+// with the whole scan below it, whatever surrounds the pit. The paper's
+// floor-plane levelling stays the start (and the paper method's only
+// levelling): a bowl or an uneven floor tilts it by a degree or more
+// (measured: bowls read +4.7 and +6.7 %, a bowl without ground +1.9 %), and
+// where no opening is found from it (a rounded bowl's floor fit can be 40
+// deg off), the scanner's own axis is the second start.
+#include <algorithm>
+
 #include <Eigen/Geometry>
 
 #include "rim/rim.h"
 #include "rim/rim_plane.h"
+#include "rim/support_plane.h"
 #include "session/session_impl.h"
 
 namespace pv::session {
 
 namespace {
+
+// How far from the start frame the support plane may lie: the floor fit of
+// a rounded bowl 25 deg off a 35 deg tilted scan (pitvol-sim sweep --seed
+// 1300 --index 134).
+constexpr double kSupportMaxTiltDeg = 30.0;
 
 // Rotation taking unit vector n onto +Z (Rodrigues), applied after t.
 void rotate_onto_z(const Eigen::Vector3d &n, levelling::Transform *t) {
@@ -68,19 +79,76 @@ void sector_tops(const pv_session *s, const levelling::Transform &t, rim::Sector
   }
 }
 
-}  // namespace
+// The floor-plane frame puts the floor at z = 0, and the layers start
+// there. After a rotation far from that frame the pit's bottom can lie far
+// below it (the rotation turns about the floor fit's origin, which on a
+// rounded bowl lies on its side: 100-200 mm, measured on the tuning sweeps),
+// and in the scanner-upright frame z = 0 means nothing: there the bottom is
+// set at z = 0 again, the 0.1 % quantile of the sample's heights less a
+// margin for the noise below it. A floor-plane frame keeps its zero unless
+// its bottom is lost: a hand-dug floor's dips reach 5 mm below its plane,
+// and moving the zero onto them read a pit 1.5 % higher (seed 1 #263).
+constexpr double kBottomQuantile = 0.001;
+constexpr double kBottomMarginMm = 1.0;
+constexpr double kLostBottomMm = 20.0;
+double bottom_mm(pv_session *s, const levelling::Transform &t) {
+  const uint32_t n = s->sample.size();
+  for (uint32_t i = 0; i < n; ++i) s->lv.v[i] = t.level_z(s->sample_points[i]);
+  const size_t k = size_t(kBottomQuantile * double(n - 1));
+  std::nth_element(s->lv.v, s->lv.v + k, s->lv.v + n);
+  return s->lv.v[k];
+}
+void bottom_to_zero(pv_session *s, levelling::Transform *t, double *rim_mm) {
+  const double shift = bottom_mm(s, *t) - kBottomMarginMm;
+  t->t.z() -= shift;
+  if (*rim_mm > 0) *rim_mm -= shift;
+}
 
-double level_for_surface(pv_session *s, levelling::Transform *t) {
-  if (level_on_ground(s, t)) return -1.0;
+// The ground (strict), else the rim plane, else the support plane, all in
+// frame t. Returns false if none was found; t is then unchanged.
+bool level_on_opening(pv_session *s, levelling::Transform *t, double *rim_mm) {
+  *rim_mm = -1.0;
+  if (level_on_ground(s, t)) return true;
   rim::SectorTops tops;
   sector_tops(s, *t, &tops);
   const rim::RimPlane rp = rim::fit_rim_plane(tops);
-  if (!rp.found) return -1.0;
-  rotate_onto_z(rp.normal, t);
-  // The rim plane's height after the rotation: the rotated plane is
-  // z = d (its normal is +Z, its offset unchanged by a rotation about the
-  // origin).
-  return rp.d;
+  if (rp.found) {
+    rotate_onto_z(rp.normal, t);
+    // The rim plane's height after the rotation: the rotated plane is
+    // z = d (its normal is +Z, its offset unchanged by a rotation about the
+    // origin).
+    *rim_mm = rp.d;
+    return true;
+  }
+  const uint32_t n = s->sample.size();
+  for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t->apply(s->sample_points[i]);
+  // lv.b holds n Vector3d: room for 6n indices, n + 144 needed (n >= 64).
+  static_assert(sizeof(Eigen::Vector3d) >= 6 * sizeof(uint32_t), "index scratch fits");
+  const rim::SupportPlane sp = rim::fit_support_plane(
+      s->lv.a, n, kSupportMaxTiltDeg, s->lv.v, reinterpret_cast<uint32_t *>(s->lv.b));
+  if (!sp.found) return false;
+  rotate_onto_z(sp.normal, t);
+  *rim_mm = sp.d;
+  if (bottom_mm(s, *t) < -kLostBottomMm) bottom_to_zero(s, t, rim_mm);
+  return true;
+}
+
+}  // namespace
+
+double level_for_surface(pv_session *s, levelling::Transform *t) {
+  double rim_mm = -1.0;
+  if (level_on_opening(s, t, &rim_mm)) return rim_mm;
+  // The floor-plane frame can be far from level where the floor is not
+  // flat (a rounded bowl: 20-40 deg). A handheld scan is held roughly
+  // upright, so the scanner's own axis (the same way up as the floor fit)
+  // is the second start.
+  levelling::Transform upright = *t;
+  const Eigen::Vector3d scanner_z = t->R.col(2);
+  rotate_onto_z(scanner_z.z() >= 0 ? scanner_z : Eigen::Vector3d(-scanner_z), &upright);
+  if (!level_on_opening(s, &upright, &rim_mm)) return -1.0;
+  bottom_to_zero(s, &upright, &rim_mm);
+  *t = upright;
+  return rim_mm;
 }
 
 }  // namespace pv::session

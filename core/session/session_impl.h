@@ -183,9 +183,11 @@ levelling::Status fit_sample(pv_session *s, levelling::Transform *t,
 void establish_transform(pv_session *s);
 // estimate() and finish() share this; it reads the bins, writes scratch.
 pv_status_t measure(pv_session *s, pv_result_t *out);
-// Method surface: re-levels t on the ground ring when the scan has one, else
-// on the rim plane (the wall's top edge). Returns the rim height when the
-// rim plane set it, else a negative value (the rim stage decides).
+// Method surface: re-levels t on the plane of the opening: the ground ring
+// when the scan has one, else the rim plane (the wall's top edge), else the
+// support plane, from the floor-plane frame, then from the scanner-upright
+// one (level_surface.cpp). Returns the rim height when a plane other than
+// the ground set it, else a negative value (the rim stage decides).
 double level_for_surface(pv_session *s, levelling::Transform *t);
 // The surface method's part of measure(): from the levelled stored points,
 // the rim and the bottom of the grid to the result (measure_surface.cpp).

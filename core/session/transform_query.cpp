@@ -2,8 +2,8 @@
 // measure() uses, for host tools that measure the same levelled cloud with
 // another method (host_tools/peers). It repeats measure()'s stages 1 and 3
 // (final fit on the canonical sample; method surface: re-levelled on the
-// ground ring, else on the rim plane, level_for_surface(); rim from the rim
-// plane, else the ground peak, else the wall top over the per-layer
+// plane of the opening, level_for_surface(); rim from that plane, else the
+// ground peak, else the wall top over the per-layer
 // weights) rather than caching them in the session,
 // so the session layout does not change for a query tool. Keep it in step
 // with measure.cpp (test_transform_query checks they agree).
