@@ -46,6 +46,12 @@ constexpr double kLipMidShare = 0.05;
 // from up to kLipMaxReach bins either side.
 constexpr unsigned kLipMinPoints = 6;
 constexpr int kLipMaxReach = 3;
+// Where the flat bins' median width is a vessel's lip (at most
+// kLipMaxWidthMm; the simulator's lips are 3-15 mm, its ground rings 40 mm
+// and more), a bin that is not flat takes its cap from the nearest flat bins
+// within kLipFillReachDeg either side (container_lip.cpp says why).
+constexpr double kLipMaxWidthMm = 20.0;
+constexpr double kLipFillReachDeg = 30.0;
 
 // cap[t] for each of the wall grid's theta bins around m.axis: points
 // below the top band with a radius of cap[t] or more are outside the pit
