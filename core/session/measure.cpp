@@ -411,11 +411,15 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out) {
 // A pit deeper than the grid loses its top at push: the rim then found
 // is the cut (a rounded bowl 923 mm deep, levelled 7 deg off, read -9 %
 // with PV_OK: 0.48 % of its points above the grid). Far strays put at most
-// 0.014 % of a scan there (sweep seed 1, 300 scans). Held against what
-// would be a volume only: a cloud that is no pit says so first.
+// 0.014 % of a scan there (sweep seed 1, 300 scans). Counted among the
+// points binned with the provisional frame that stands (session.cpp,
+// refine()): a frame that moved away was no measure of the pit. Held
+// against what would be a volume only: a cloud that is no pit says so
+// first.
 pv_status_t measure(pv_session *s, pv_result_t *out) {
   const pv_status_t st = measure_stored(s, out);
-  if (st != PV_OK || s->points_above_range * 1000 <= s->points_in * kMaxAbovePerMille) return st;
+  const uint64_t binned = s->points_accepted - s->points_before_frame;
+  if (st != PV_OK || s->points_above_range * 1000 <= binned * kMaxAbovePerMille) return st;
   out->volume_cm3 = out->interval_cm3 = 0.0;
   out->status = PV_ERR_DEPTH_EXCEEDS_CAPACITY;
   return out->status;

@@ -119,7 +119,10 @@ struct pv_session {
   uint64_t points_in;
   uint64_t points_invalid;
   uint64_t points_out_of_range;
-  uint64_t points_above_range;  // of those, above the grid's top when binned
+  // Of those, above the grid's top when binned with the provisional frame
+  // that stands, and the points binned before that frame (refine()).
+  uint64_t points_above_range;
+  uint64_t points_before_frame;
   // Resent points (binning/duplicate_filter.h) are counted in points_in and
   // here, and go no further; the refinement schedule counts the rest.
   uint64_t points_duplicate;
