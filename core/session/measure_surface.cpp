@@ -50,6 +50,16 @@ constexpr double kMaxFloorSlipShare = 0.1;
 // whose foot above the floor's edge put 0.27 of the floor's points in the
 // window, spread over its 32 mm).
 constexpr double kMinFloorSlipPeak = 0.2;
+// A shorter slipped pass puts fewer of the floor's points up there (tuning
+// seeds 1 and 1300: 0.046-0.077, reading +14.7 to +22.2 % with PV_OK), as
+// a long single scan's multipath can (up to 0.062 of 393 single scans);
+// then the far points must lie at one height (the peak above) and spread
+// over the floor: 0.22-0.31 of its cells hold two of them or more. No
+// single scan of those seeds has a far share over 0.04 with a peak over
+// 0.2; the two whose multipath covers over 0.12 of the cells (long scans)
+// spread it in height (peaks 0.13-0.15).
+constexpr double kMinFloorSlipShareSpread = 0.04;
+constexpr double kMinFloorSlipCells = 0.12;
 // Both were measured on the default grids (2 deg x 2 mm wall bins, 2 mm
 // floor cells). Coarser grids put a single scan's wall and floor behind the
 // band: the MCU profile's 10 deg bins half of an elliptical wall's bins,
@@ -222,6 +232,11 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
     const double far = double(m.floor_far_points) / double(m.floor_points + m.floor_far_points);
     if (far > kMaxFloorSlipShare && m.floor_far_peak > kMinFloorSlipPeak) {
       return refuse(PV_PIT_CHECK_DOUBLED_FLOOR, far, kMaxFloorSlipShare);
+    }
+    const double far_cells = m.floor_cells ? double(m.floor_far_cells) / double(m.floor_cells) : 0.0;
+    if (far > kMinFloorSlipShareSpread && m.floor_far_peak > kMinFloorSlipPeak &&
+        far_cells > kMinFloorSlipCells) {
+      return refuse(PV_PIT_CHECK_DOUBLED_FLOOR, far, kMinFloorSlipShareSpread);
     }
   }
   return PV_PIT_CHECK_NONE;

@@ -731,6 +731,8 @@ void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool co
     m->floor_points += f.n;
     m->floor_ghost_points += f.n_ghost;
     m->floor_far_points += f.n_far;
+    ++m->floor_cells;
+    m->floor_far_cells += f.n_far >= 2;
   });
 }
 

@@ -203,6 +203,10 @@ struct Model {
   // Further above it, up to Params::slip_mm: a second pass that slipped
   // along the axis doubles the floor 10-40 mm up (floor_far_points).
   uint64_t floor_far_points;
+  // The floor map's cells, and those with two far points or more: a
+  // slipped copy's floor spreads them over the floor, a tapered or
+  // overhanging wall's foot keeps them to its edge.
+  uint64_t floor_cells, floor_far_cells;
   // The share of those far points (over every floor map cell) within the
   // densest 3 mm of height: near 1 for a second floor, low for a wall
   // overhanging the floor's edge.
