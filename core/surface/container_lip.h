@@ -52,6 +52,7 @@ constexpr int kLipMaxReach = 3;
 // within kLipFillReachDeg either side (container_lip.cpp says why).
 constexpr double kLipMaxWidthMm = 20.0;
 constexpr double kLipFillReachDeg = 30.0;
+constexpr uint32_t kLipFillMinBins = 180;  // 2 deg bins or finer
 
 // cap[t] for each of the wall grid's theta bins around m.axis: points
 // below the top band with a radius of cap[t] or more are outside the pit
