@@ -16,7 +16,61 @@
 #include "board_alloc_zone.h"
 #include "pitvol/board_fonts.h"
 
+_Static_assert(PV_BOARD_APP_ERR_QUEUE_FULL > PV_STATUS_BASE_BOARD_APP &&
+                   PV_BOARD_APP_ERR_POLL < PV_STATUS_BASE_BOARD_APP + PV_STATUS_RANGE / 2,
+               "pv_board_app_status_t in its range (pitvol/status_codes.h)");
+
 _Thread_local int pv_alloc_zone = PV_ZONE_NONE;
+
+const char *pv_board_app_status_name(pv_board_app_status_t status) {
+  switch (status) {
+    case PV_BOARD_APP_OK: return "PV_BOARD_APP_OK";
+    case PV_BOARD_APP_ERR_QUEUE_FULL: return "PV_BOARD_APP_ERR_QUEUE_FULL";
+    case PV_BOARD_APP_ERR_WATCHES_FULL: return "PV_BOARD_APP_ERR_WATCHES_FULL";
+    case PV_BOARD_APP_ERR_WATCH_ARGUMENT: return "PV_BOARD_APP_ERR_WATCH_ARGUMENT";
+    case PV_BOARD_APP_ERR_NOT_WATCHED: return "PV_BOARD_APP_ERR_NOT_WATCHED";
+    case PV_BOARD_APP_ERR_CONFIG: return "PV_BOARD_APP_ERR_CONFIG";
+    case PV_BOARD_APP_ERR_DISPLAY: return "PV_BOARD_APP_ERR_DISPLAY";
+    case PV_BOARD_APP_ERR_CORE: return "PV_BOARD_APP_ERR_CORE";
+    case PV_BOARD_APP_ERR_INPUT: return "PV_BOARD_APP_ERR_INPUT";
+    case PV_BOARD_APP_ERR_TIMER: return "PV_BOARD_APP_ERR_TIMER";
+    case PV_BOARD_APP_ERR_SIGNAL: return "PV_BOARD_APP_ERR_SIGNAL";
+    case PV_BOARD_APP_ERR_USB: return "PV_BOARD_APP_ERR_USB";
+    case PV_BOARD_APP_ERR_POLL: return "PV_BOARD_APP_ERR_POLL";
+  }
+  return "PV_BOARD_APP_ERR_UNKNOWN";
+}
+
+const char *pv_board_app_status_message(pv_board_app_status_t status) {
+  switch (status) {
+    case PV_BOARD_APP_OK: return "running";
+    case PV_BOARD_APP_ERR_QUEUE_FULL:
+      return "the board's event queue is full and the event was dropped (counted on the result "
+             "screen); send the command again";
+    case PV_BOARD_APP_ERR_WATCHES_FULL:
+      return "the board watches no more descriptors; a caller bug (raise PV_BOARD_MAX_WATCHES)";
+    case PV_BOARD_APP_ERR_WATCH_ARGUMENT:
+      return "a watch needs a descriptor and a callback; a caller bug";
+    case PV_BOARD_APP_ERR_NOT_WATCHED: return "that descriptor is not watched; a caller bug";
+    case PV_BOARD_APP_ERR_CONFIG: return "the board's configuration is refused; fix board.conf";
+    case PV_BOARD_APP_ERR_DISPLAY:
+      return "the display cannot be set up; check the display config and permissions";
+    case PV_BOARD_APP_ERR_CORE:
+      return "the core cannot be set up in its block; lower core.max_layers or "
+             "core.points_per_layer";
+    case PV_BOARD_APP_ERR_INPUT:
+      return "the buttons cannot be opened; check the input config and permissions";
+    case PV_BOARD_APP_ERR_TIMER:
+      return "the live estimate's timer cannot be set up; free descriptors";
+    case PV_BOARD_APP_ERR_SIGNAL:
+      return "SIGTERM and SIGINT cannot be taken by the loop; free descriptors";
+    case PV_BOARD_APP_ERR_USB:
+      return "the scanner's USB driver cannot start; check libusb and the udev rules";
+    case PV_BOARD_APP_ERR_POLL:
+      return "the event loop cannot wait for its devices; the board stops (systemd restarts it)";
+  }
+  return "unknown board application status";
+}
 
 static uint64_t now_ms(void) {
   struct timespec ts;
@@ -39,7 +93,7 @@ static void on_points(void *user, const pv_usb_frame_header_t *h, const pv_point
   pv_alloc_zone_enter(old);
 }
 
-int pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev) {
+pv_board_app_status_t pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev) {
   if (app->q_len == PV_BOARD_EVENT_QUEUE) {
     /* Counted and shown: a lost SCAN_ENDED or MEASURED would otherwise
      * leave the screen waiting with nothing said. */
@@ -47,38 +101,40 @@ int pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev) {
     app->dirty = 1;
     fprintf(stderr, "pitvol-board: event queue full: %s dropped (%u so far)\n",
             pv_board_event_name(ev), (unsigned)app->model.dropped_events);
-    return -1;
+    return PV_BOARD_APP_ERR_QUEUE_FULL;
   }
   app->queue[(app->q_head + app->q_len) % PV_BOARD_EVENT_QUEUE] = ev;
   app->q_len++;
-  return 0;
+  return PV_BOARD_APP_OK;
 }
 
 /* The loop's own events: a full queue is counted, logged and shown by
  * pv_board_app_post; there is no one else to tell. */
 static void post(pv_board_app_t *app, pv_board_event_t ev) {
-  const int full = pv_board_app_post(app, ev);
+  const pv_board_app_status_t full = pv_board_app_post(app, ev);
   (void)full;
 }
 
-int pv_board_app_watch(pv_board_app_t *app, int fd, short events, pv_board_watch_fn fn, void *user) {
-  if (app->nwatches == PV_BOARD_MAX_WATCHES || fd < 0 || fn == NULL) return -1;
+pv_board_app_status_t pv_board_app_watch(pv_board_app_t *app, int fd, short events,
+                                         pv_board_watch_fn fn, void *user) {
+  if (fd < 0 || fn == NULL) return PV_BOARD_APP_ERR_WATCH_ARGUMENT;
+  if (app->nwatches == PV_BOARD_MAX_WATCHES) return PV_BOARD_APP_ERR_WATCHES_FULL;
   app->watches[app->nwatches].fd = fd;
   app->watches[app->nwatches].events = events;
   app->watches[app->nwatches].fn = fn;
   app->watches[app->nwatches].user = user;
   app->nwatches++;
-  return 0;
+  return PV_BOARD_APP_OK;
 }
 
-int pv_board_app_watch_events(pv_board_app_t *app, int fd, short events) {
+pv_board_app_status_t pv_board_app_watch_events(pv_board_app_t *app, int fd, short events) {
   for (size_t w = 0; w < app->nwatches; ++w) {
     if (app->watches[w].fd == fd) {
       app->watches[w].events = events;
-      return 0;
+      return PV_BOARD_APP_OK;
     }
   }
-  return -1;
+  return PV_BOARD_APP_ERR_NOT_WATCHED;
 }
 
 void pv_board_app_set_observer(pv_board_app_t *app, pv_board_observer_fn fn, void *user) {
@@ -257,21 +313,29 @@ static void measure(pv_board_app_t *app) {
   post(app, PV_EV_MEASURED);
 }
 
-/* Appends the status's name to the sentence in err ("... [PV_DISPLAY_ERR_OPEN]"):
- * the log then names the module and the fault. Returns -1. */
-static int failed(char *err, size_t errcap, const char *status_name) {
+/* Appends the failing module's status name to the sentence in err
+ * ("... [PV_DISPLAY_ERR_OPEN]"): the log then names the module and the
+ * fault. Returns the part of the board that failed. */
+static pv_board_app_status_t failed(pv_board_app_status_t part, char *err, size_t errcap,
+                                    const char *status_name) {
   const size_t n = strnlen(err, errcap);
   if (n < errcap) snprintf(err + n, errcap - n, " [%s]", status_name);
-  return -1;
+  return part;
 }
 
-int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *err, size_t errcap) {
+/* A fault of the board's own: the sentence, then its name. */
+static pv_board_app_status_t failed_own(pv_board_app_status_t st, char *err, size_t errcap) {
+  return failed(st, err, errcap, pv_board_app_status_name(st));
+}
+
+pv_board_app_status_t pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg,
+                                        char *err, size_t errcap) {
   memset(app, 0, sizeof *app);
   app->timer_fd = app->signal_fd = -1;
   app->cfg = *cfg;
   pv_board_init(&app->model);
   const pv_board_config_status_t cst = pv_board_config_check(cfg, err, errcap);
-  if (cst != PV_BOARD_CONFIG_OK) return failed(err, errcap, pv_board_config_status_name(cst));
+  if (cst != PV_BOARD_CONFIG_OK) return failed(PV_BOARD_APP_ERR_CONFIG, err, errcap, pv_board_config_status_name(cst));
 
   pv_display_status_t dst =
       pv_font_parse_psf2(&app->fonts.body, pv_font_10x20, pv_font_10x20_bytes);
@@ -280,43 +344,43 @@ int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *e
   }
   if (dst != PV_DISPLAY_OK) {
     snprintf(err, errcap, "built-in font: %s", pv_display_status_message(dst));
-    return failed(err, errcap, pv_display_status_name(dst));
+    return failed(PV_BOARD_APP_ERR_DISPLAY, err, errcap, pv_display_status_name(dst));
   }
   const size_t canvas_bytes =
       pv_canvas_bytes(cfg->display_width, cfg->display_height, PV_BOARD_TEXT_LOG_BYTES);
   app->canvas_mem = malloc(canvas_bytes);
   if (app->canvas_mem == NULL) {
     snprintf(err, errcap, "no memory for a %ux%u canvas", cfg->display_width, cfg->display_height);
-    return failed(err, errcap, pv_display_status_name(PV_DISPLAY_ERR_NO_MEMORY));
+    return failed(PV_BOARD_APP_ERR_DISPLAY, err, errcap, pv_display_status_name(PV_DISPLAY_ERR_NO_MEMORY));
   }
   dst = pv_canvas_init(&app->canvas, cfg->display_width, cfg->display_height,
                        PV_BOARD_TEXT_LOG_BYTES, app->canvas_mem, canvas_bytes);
   if (dst != PV_DISPLAY_OK) {
     snprintf(err, errcap, "canvas %ux%u: %s", cfg->display_width, cfg->display_height,
              pv_display_status_message(dst));
-    return failed(err, errcap, pv_display_status_name(dst));
+    return failed(PV_BOARD_APP_ERR_DISPLAY, err, errcap, pv_display_status_name(dst));
   }
   dst = pv_display_open(&app->display, cfg->display, cfg->display_width, cfg->display_height, err,
                         errcap);
-  if (dst != PV_DISPLAY_OK) return failed(err, errcap, pv_display_status_name(dst));
+  if (dst != PV_DISPLAY_OK) return failed(PV_BOARD_APP_ERR_DISPLAY, err, errcap, pv_display_status_name(dst));
   present(app); /* BOOT */
 
   size_t bytes = 0;
   if (pv_session_size(&cfg->core, &bytes) != PV_OK) {
     snprintf(err, errcap, "core configuration rejected");
-    return -1;
+    return failed_own(PV_BOARD_APP_ERR_CORE, err, errcap);
   }
   const size_t rounded = (bytes + PV_BLOCK_ALIGN - 1) / PV_BLOCK_ALIGN * PV_BLOCK_ALIGN;
   app->block = aligned_alloc(PV_BLOCK_ALIGN, rounded);
   if (app->block == NULL || pv_session_init(&cfg->core, app->block, bytes, &app->session) != PV_OK) {
     snprintf(err, errcap, "cannot set up the core in %zu bytes (lower core.max_layers or core.points_per_layer)", bytes);
-    return -1;
+    return failed_own(PV_BOARD_APP_ERR_CORE, err, errcap);
   }
   printf("pitvol-board: core block %zu bytes, canvas %ux%u\n", bytes, cfg->display_width,
          cfg->display_height);
 
   const pv_input_status_t ist = pv_input_open(&app->input, cfg->input, err, errcap);
-  if (ist != PV_INPUT_OK) return failed(err, errcap, pv_input_status_name(ist));
+  if (ist != PV_INPUT_OK) return failed(PV_BOARD_APP_ERR_INPUT, err, errcap, pv_input_status_name(ist));
 
   app->timer_fd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
   struct itimerspec its;
@@ -326,7 +390,7 @@ int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *e
   its.it_value = its.it_interval;
   if (app->timer_fd < 0 || timerfd_settime(app->timer_fd, 0, &its, NULL) != 0) {
     snprintf(err, errcap, "timer: %s", strerror(errno));
-    return -1;
+    return failed_own(PV_BOARD_APP_ERR_TIMER, err, errcap);
   }
   sigset_t mask;
   sigemptyset(&mask);
@@ -335,23 +399,22 @@ int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *e
   app->signal_fd = signalfd(-1, &mask, SFD_NONBLOCK | SFD_CLOEXEC);
   if (app->signal_fd < 0) {
     snprintf(err, errcap, "signalfd: %s", strerror(errno));
-    return -1;
+    return failed_own(PV_BOARD_APP_ERR_SIGNAL, err, errcap);
   }
 
   const pv_usb_status_t ust = pv_usb_scanner_open_ids(&app->usb, cfg->usb_vendor, cfg->usb_product,
                                                       1, on_points, app);
   if (ust != PV_USB_OK) {
     snprintf(err, errcap, "USB: %s", pv_usb_status_message(ust));
-    return -1;
+    return failed(PV_BOARD_APP_ERR_USB, err, errcap, pv_usb_status_name(ust));
   }
   app->usb_state = pv_usb_scanner_poll(app->usb, 0);
   post(app, app->usb_state == PV_USB_STATE_UNPLUGGED ? PV_EV_SCANNER_GONE : PV_EV_SCANNER_ARRIVED);
-  return 0;
+  return PV_BOARD_APP_OK;
 }
 
-int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap) {
-  (void)err;
-  (void)errcap;
+pv_board_app_status_t pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap) {
+  pv_board_app_status_t st = PV_BOARD_APP_OK;
   const int outer = pv_alloc_zone_enter(PV_ZONE_BOARD);
   while (!app->quit) {
     drain_events(app);
@@ -386,7 +449,10 @@ int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap) {
     for (size_t i = i_input; i < n; ++i) app->fds[i].revents = 0;
     const int r = poll(app->fds, (nfds_t)n, timeout);
     if (r < 0 && errno != EINTR) {
-      fprintf(stderr, "pitvol-board: poll: %s\n", strerror(errno));
+      /* A loop that cannot wait is no board: stop with a failure, so that
+       * systemd restarts it, instead of ending as if asked to. */
+      snprintf(err, errcap, "poll: %s", strerror(errno));
+      st = failed_own(PV_BOARD_APP_ERR_POLL, err, errcap);
       break;
     }
     if (r > 0 && (app->fds[i_signal].revents & POLLIN)) {
@@ -425,7 +491,7 @@ int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap) {
     poll_usb(app);
   }
   pv_alloc_zone_enter(outer);
-  return 0;
+  return st;
 }
 
 void pv_board_app_close(pv_board_app_t *app) {

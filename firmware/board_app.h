@@ -79,23 +79,55 @@ struct pv_board_app {
   unsigned long presents;
 };
 
-/* Sets up everything from the configuration. 0, or -1 with a sentence in
- * err (what failed, what to do). */
-PV_NODISCARD int pv_board_app_init(pv_board_app_t *app, const pv_board_config_t *cfg, char *err, size_t errcap);
-/* Runs until SIGTERM/SIGINT or pv_board_app_quit. 0, or -1 with err. */
-PV_NODISCARD int pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap);
+/* 0, then 951 .. 999: PV_STATUS_BASE_BOARD_APP (pitvol/status_codes.h).
+ * The start's faults name the part that failed; err says which device or
+ * setting and ends in the failing module's own status name. */
+typedef enum pv_board_app_status {
+  PV_BOARD_APP_OK = 0,
+  PV_BOARD_APP_ERR_QUEUE_FULL = 951,     /* the event queue is full: the event was dropped */
+  PV_BOARD_APP_ERR_WATCHES_FULL = 952,   /* all PV_BOARD_MAX_WATCHES slots are taken */
+  PV_BOARD_APP_ERR_WATCH_ARGUMENT = 953, /* a watch without a descriptor or a callback */
+  PV_BOARD_APP_ERR_NOT_WATCHED = 954,    /* the descriptor is not watched */
+  PV_BOARD_APP_ERR_CONFIG = 955,         /* the configuration does not pass its check */
+  PV_BOARD_APP_ERR_DISPLAY = 956,        /* fonts, canvas or display */
+  PV_BOARD_APP_ERR_CORE = 957,           /* the core's block cannot be set up */
+  PV_BOARD_APP_ERR_INPUT = 958,          /* the buttons */
+  PV_BOARD_APP_ERR_TIMER = 959,          /* the live estimate's timer */
+  PV_BOARD_APP_ERR_SIGNAL = 960,         /* the signalfd for SIGTERM/SIGINT */
+  PV_BOARD_APP_ERR_USB = 961,            /* the scanner's USB driver */
+  PV_BOARD_APP_ERR_POLL = 962            /* the event loop's poll() failed */
+} pv_board_app_status_t;
+
+/* The symbol ("PV_BOARD_APP_ERR_QUEUE_FULL"). Never NULL. */
+const char *pv_board_app_status_name(pv_board_app_status_t status);
+/* What went wrong and what the user can do. Never NULL. */
+const char *pv_board_app_status_message(pv_board_app_status_t status);
+
+/* Sets up everything from the configuration. PV_BOARD_APP_OK, or the part
+ * that failed (_CONFIG, _DISPLAY, _CORE, _INPUT, _TIMER, _SIGNAL, _USB) with
+ * a sentence in err (what failed, what to do, "[STATUS_NAME]"). */
+PV_NODISCARD pv_board_app_status_t pv_board_app_init(pv_board_app_t *app,
+                                                     const pv_board_config_t *cfg, char *err,
+                                                     size_t errcap);
+/* Runs until SIGTERM/SIGINT or pv_board_app_quit. PV_BOARD_APP_OK, or
+ * PV_BOARD_APP_ERR_POLL with a sentence in err (the loop cannot wait). */
+PV_NODISCARD pv_board_app_status_t pv_board_app_run(pv_board_app_t *app, char *err, size_t errcap);
 void pv_board_app_quit(pv_board_app_t *app);
 void pv_board_app_close(pv_board_app_t *app);
 
-/* Extra descriptors (the serial link). 0, or -1 if all slots are taken. */
-PV_NODISCARD int pv_board_app_watch(pv_board_app_t *app, int fd, short events, pv_board_watch_fn fn, void *user);
+/* Extra descriptors (the serial link). PV_BOARD_APP_OK,
+ * PV_BOARD_APP_ERR_WATCHES_FULL or PV_BOARD_APP_ERR_WATCH_ARGUMENT. */
+PV_NODISCARD pv_board_app_status_t pv_board_app_watch(pv_board_app_t *app, int fd, short events,
+                                                      pv_board_watch_fn fn, void *user);
 /* Changes what a watched fd waits for (e.g. POLLIN | POLLOUT while the
- * link has bytes to send). 0, or -1 if fd is not watched. */
-PV_NODISCARD int pv_board_app_watch_events(pv_board_app_t *app, int fd, short events);
-/* Queues an event (from a watch callback). 0, or -1 if the queue is full:
- * the event is then counted in model.dropped_events (the result screens
- * show it) and logged; the caller says so to whoever sent it. */
-PV_NODISCARD int pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev);
+ * link has bytes to send). PV_BOARD_APP_OK, or PV_BOARD_APP_ERR_NOT_WATCHED. */
+PV_NODISCARD pv_board_app_status_t pv_board_app_watch_events(pv_board_app_t *app, int fd,
+                                                             short events);
+/* Queues an event (from a watch callback). PV_BOARD_APP_OK, or
+ * PV_BOARD_APP_ERR_QUEUE_FULL: the event is then counted in
+ * model.dropped_events (the result screens show it) and logged; the caller
+ * says so to whoever sent it. */
+PV_NODISCARD pv_board_app_status_t pv_board_app_post(pv_board_app_t *app, pv_board_event_t ev);
 void pv_board_app_set_observer(pv_board_app_t *app, pv_board_observer_fn fn, void *user);
 
 #ifdef __cplusplus

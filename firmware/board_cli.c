@@ -86,7 +86,7 @@ int pv_board_cli_main(int argc, char **argv, const pv_board_cli_hooks_t *hooks) 
   if (st != PV_BOARD_CONFIG_OK) return config_usage(st, err);
   printf("pitvol-board %s: display %s, input %s, scanner %04x:%04x\n", PV_VERSION_STRING,
          cfg.display, cfg.input, cfg.usb_vendor, cfg.usb_product);
-  if (pv_board_app_init(&g_app, &cfg, err, sizeof err) != 0) {
+  if (pv_board_app_init(&g_app, &cfg, err, sizeof err) != PV_BOARD_APP_OK) {
     fprintf(stderr, "pitvol-board: %s\n", err);
     pv_board_app_close(&g_app);
     return 3;
@@ -96,10 +96,10 @@ int pv_board_cli_main(int argc, char **argv, const pv_board_cli_hooks_t *hooks) 
     pv_board_app_close(&g_app);
     return 3;
   }
-  const int rc = pv_board_app_run(&g_app, err, sizeof err);
+  const pv_board_app_status_t rc = pv_board_app_run(&g_app, err, sizeof err);
   if (hooks != NULL && hooks->after_run != NULL) hooks->after_run(&g_app);
   pv_board_app_close(&g_app);
-  if (rc != 0) fprintf(stderr, "pitvol-board: %s\n", err);
+  if (rc != PV_BOARD_APP_OK) fprintf(stderr, "pitvol-board: %s\n", err);
   fflush(stdout);
-  return rc == 0 ? 0 : 3;
+  return rc == PV_BOARD_APP_OK ? 0 : 3;
 }

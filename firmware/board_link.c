@@ -64,8 +64,10 @@ static void app_status(void *ctx, pitvol_Status *s) {
 
 static pitvol_NackCode post_or_busy(pv_board_link_t *bl, pv_board_event_t ev, char *why,
                                     size_t cap) {
-  if (pv_board_app_post(bl->app, ev) != 0) {
-    snprintf(why, cap, "the board is busy; send the command again");
+  const pv_board_app_status_t st = pv_board_app_post(bl->app, ev);
+  if (st != PV_BOARD_APP_OK) { /* PV_BOARD_APP_ERR_QUEUE_FULL: counted and shown by the board */
+    snprintf(why, cap, "the board is busy; send the command again [%s]",
+             pv_board_app_status_name(st));
     return pitvol_NackCode_NACK_BUSY;
   }
   return pitvol_NackCode_NACK_NONE;
@@ -148,9 +150,12 @@ static void service(pv_board_link_t *bl) {
   if (!bl->have_port) return;
   const pv_link_status_t st = pv_link_server_service(&bl->srv, write_port, bl);
   (void)st; /* write_port said it in the board's log */
-  if (pv_board_app_watch_events(bl->app, pv_serial_fd(&bl->port),
-                                (short)(POLLIN | (pv_link_tx_pending(&bl->srv.link) ? POLLOUT : 0))) != 0) {
-    fprintf(stderr, "pitvol-board: link: the port is not watched; nothing will be sent\n");
+  const pv_board_app_status_t wst = pv_board_app_watch_events(
+      bl->app, pv_serial_fd(&bl->port),
+      (short)(POLLIN | (pv_link_tx_pending(&bl->srv.link) ? POLLOUT : 0)));
+  if (wst != PV_BOARD_APP_OK) {
+    fprintf(stderr, "pitvol-board: link: the port is not watched; nothing will be sent [%s]\n",
+            pv_board_app_status_name(wst));
   }
 }
 
@@ -223,8 +228,37 @@ static void on_news(pv_board_app_t *app, pv_board_news_t what, const pv_board_mo
   service(bl);
 }
 
-int pv_board_link_start(pv_board_link_t *bl, pv_board_app_t *app, int adopt_fd, char *err,
-                        size_t errcap) {
+_Static_assert(PV_BOARD_LINK_ERR_LOG > PV_STATUS_BASE_BOARD_LINK &&
+                   PV_BOARD_LINK_ERR_WATCH < PV_STATUS_BASE_BOARD_LINK + PV_STATUS_RANGE / 2,
+               "pv_board_link_status_t in its range (pitvol/status_codes.h)");
+
+const char *pv_board_link_status_name(pv_board_link_status_t status) {
+  switch (status) {
+    case PV_BOARD_LINK_OK: return "PV_BOARD_LINK_OK";
+    case PV_BOARD_LINK_ERR_LOG: return "PV_BOARD_LINK_ERR_LOG";
+    case PV_BOARD_LINK_ERR_TIMER: return "PV_BOARD_LINK_ERR_TIMER";
+    case PV_BOARD_LINK_ERR_WATCH: return "PV_BOARD_LINK_ERR_WATCH";
+  }
+  return "PV_BOARD_LINK_ERR_UNKNOWN";
+}
+
+const char *pv_board_link_status_message(pv_board_link_status_t status) {
+  switch (status) {
+    case PV_BOARD_LINK_OK: return "started";
+    case PV_BOARD_LINK_ERR_LOG:
+      return "the result log cannot be opened; check result_log in the configuration and the "
+             "storage card, or set result_log = none to run without keeping results";
+    case PV_BOARD_LINK_ERR_TIMER:
+      return "the link's status timer cannot be set up; free descriptors";
+    case PV_BOARD_LINK_ERR_WATCH:
+      return "the board's loop takes no more descriptors for the link; a build with too few "
+             "PV_BOARD_MAX_WATCHES";
+  }
+  return "unknown board link status";
+}
+
+pv_board_link_status_t pv_board_link_start(pv_board_link_t *bl, pv_board_app_t *app,
+                                           int adopt_fd, char *err, size_t errcap) {
   memset(bl, 0, sizeof *bl);
   bl->app = app;
   bl->port.fd = -1;
@@ -241,7 +275,7 @@ int pv_board_link_start(pv_board_link_t *bl, pv_board_app_t *app, int adopt_fd, 
                "and the storage card, or set result_log = none to run without keeping results",
                cfg->result_log, pv_log_status_name(st),
                st == PV_LOG_ERR_IO ? strerror(bl->log.last_errno) : "invalid path or settings");
-      return -1;
+      return PV_BOARD_LINK_ERR_LOG;
     }
     bl->have_log = 1;
     const pv_log_recovery_t *rec = &bl->log.recovery;
@@ -265,31 +299,37 @@ int pv_board_link_start(pv_board_link_t *bl, pv_board_app_t *app, int adopt_fd, 
     sst = pv_serial_open(&bl->port, cfg->serial, cfg->serial_baud);
   } else {
     printf("pitvol-board: serial link off (serial = none)\n");
-    return 0;
+    return PV_BOARD_LINK_OK;
   }
   if (sst != PV_SERIAL_OK) {
     /* The board still measures and logs; the link is what is missing. */
     printf("pitvol-board: serial link off: %s: %s\n", adopt_fd >= 0 ? "pty" : cfg->serial,
            pv_serial_status_message(sst));
-    return 0;
+    return PV_BOARD_LINK_OK;
   }
   bl->timer_fd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
   struct itimerspec its;
   memset(&its, 0, sizeof its);
   its.it_interval.tv_nsec = (long)PV_BOARD_LINK_STATUS_MS * 1000000L;
   its.it_value = its.it_interval;
-  if (bl->timer_fd < 0 || timerfd_settime(bl->timer_fd, 0, &its, NULL) != 0 ||
-      pv_board_app_watch(app, pv_serial_fd(&bl->port), POLLIN, on_port, bl) != 0 ||
-      pv_board_app_watch(app, bl->timer_fd, POLLIN, on_timer, bl) != 0) {
-    snprintf(err, errcap, "serial link: cannot set up its timer or watches (%s)", strerror(errno));
-    return -1;
+  if (bl->timer_fd < 0 || timerfd_settime(bl->timer_fd, 0, &its, NULL) != 0) {
+    snprintf(err, errcap, "serial link: cannot set up its status timer (%s) [%s]", strerror(errno),
+             pv_board_link_status_name(PV_BOARD_LINK_ERR_TIMER));
+    return PV_BOARD_LINK_ERR_TIMER;
+  }
+  pv_board_app_status_t wst = pv_board_app_watch(app, pv_serial_fd(&bl->port), POLLIN, on_port, bl);
+  if (wst == PV_BOARD_APP_OK) wst = pv_board_app_watch(app, bl->timer_fd, POLLIN, on_timer, bl);
+  if (wst != PV_BOARD_APP_OK) {
+    snprintf(err, errcap, "serial link: %s [%s]", pv_board_app_status_message(wst),
+             pv_board_app_status_name(wst));
+    return PV_BOARD_LINK_ERR_WATCH;
   }
   bl->have_port = 1;
   printf("pitvol-board: serial link on %s at %u baud\n", adopt_fd >= 0 ? "pty" : cfg->serial,
          cfg->serial_baud);
   pv_link_server_send_status(&bl->srv);
   service(bl);
-  return 0;
+  return PV_BOARD_LINK_OK;
 }
 
 void pv_board_link_stop(pv_board_link_t *bl) {

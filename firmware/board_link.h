@@ -43,11 +43,25 @@ typedef struct pv_board_link {
   int write_failed; /* said once in the log */
 } pv_board_link_t;
 
+/* 0, then 1001 .. 1049: PV_STATUS_BASE_BOARD_LINK (pitvol/status_codes.h). */
+typedef enum pv_board_link_status {
+  PV_BOARD_LINK_OK = 0,
+  PV_BOARD_LINK_ERR_LOG = 1001,   /* the result log cannot be opened */
+  PV_BOARD_LINK_ERR_TIMER = 1002, /* the link's status timer cannot be set up */
+  PV_BOARD_LINK_ERR_WATCH = 1003  /* the board's loop does not take the port or the timer */
+} pv_board_link_status_t;
+
+/* The symbol ("PV_BOARD_LINK_ERR_LOG"). Never NULL. */
+const char *pv_board_link_status_name(pv_board_link_status_t status);
+/* What went wrong and what the user can do. Never NULL. */
+const char *pv_board_link_status_message(pv_board_link_status_t status);
+
 /* After pv_board_app_init. adopt_fd >= 0: a terminal fd to use instead of
  * opening cfg.serial (the host runner's pseudo-terminal); the link closes
- * it. 0, or -1 with a sentence in err (the result log cannot be opened). */
-PV_NODISCARD int pv_board_link_start(pv_board_link_t *bl, pv_board_app_t *app, int adopt_fd,
-                                     char *err, size_t errcap);
+ * it. PV_BOARD_LINK_OK (also when the port does not open: the board then
+ * runs without a link and says so), or the fault with a sentence in err. */
+PV_NODISCARD pv_board_link_status_t pv_board_link_start(pv_board_link_t *bl, pv_board_app_t *app,
+                                                        int adopt_fd, char *err, size_t errcap);
 /* After the loop: flushes what it can, prints the link's counters, closes. */
 void pv_board_link_stop(pv_board_link_t *bl);
 

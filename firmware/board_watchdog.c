@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 _Static_assert(PV_BOARD_WATCHDOG_ERR_SOCKET_PATH > PV_STATUS_BASE_WATCHDOG &&
-                   PV_BOARD_WATCHDOG_ERR_TIMER < PV_STATUS_BASE_END,
+                   PV_BOARD_WATCHDOG_ERR_TIMER < PV_STATUS_BASE_BOARD_APP,
                "pv_board_watchdog_status_t in its range (pitvol/status_codes.h)");
 
 const char *pv_board_watchdog_status_name(pv_board_watchdog_status_t status) {
@@ -91,9 +91,14 @@ pv_board_watchdog_status_t pv_board_watchdog_start(pv_board_app_t *app, char *er
       {(time_t)(half_us / 1000000u), (long)(half_us % 1000000u) * 1000L},
       {(time_t)(half_us / 1000000u), (long)(half_us % 1000000u) * 1000L}};
   g_timer = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
-  if (g_timer < 0 || timerfd_settime(g_timer, 0, &every, NULL) != 0 ||
-      pv_board_app_watch(app, g_timer, POLLIN, on_timer, NULL) != 0) {
+  if (g_timer < 0 || timerfd_settime(g_timer, 0, &every, NULL) != 0) {
     snprintf(err, errcap, "systemd: cannot set up the watchdog timer (%s)", strerror(errno));
+    return PV_BOARD_WATCHDOG_ERR_TIMER;
+  }
+  const pv_board_app_status_t wst = pv_board_app_watch(app, g_timer, POLLIN, on_timer, NULL);
+  if (wst != PV_BOARD_APP_OK) {
+    snprintf(err, errcap, "systemd: the watchdog timer is not watched: %s [%s]",
+             pv_board_app_status_message(wst), pv_board_app_status_name(wst));
     return PV_BOARD_WATCHDOG_ERR_TIMER;
   }
   printf("pitvol-board: systemd watchdog, a ping every %llu ms\n", half_us / 1000u);

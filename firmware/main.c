@@ -9,7 +9,7 @@
 static pv_board_link_t g_link; /* the serial link and result log: static, no allocation */
 
 static int after_init(pv_board_app_t *app, char *err, size_t errcap) {
-  if (pv_board_link_start(&g_link, app, -1, err, errcap) != 0) return -1;
+  if (pv_board_link_start(&g_link, app, -1, err, errcap) != PV_BOARD_LINK_OK) return -1;
   const pv_board_watchdog_status_t st = pv_board_watchdog_start(app, err, errcap);
   if (st != PV_BOARD_WATCHDOG_OK) {
     /* The log names the fault; the board does not run unwatched under a

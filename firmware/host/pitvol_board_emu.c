@@ -49,7 +49,7 @@ static int g_pty_master = -1; /* the board's side of the line */
 static int link_start(pv_board_app_t *app, char *err, size_t errcap) {
   const int fd = g_pty_master;
   g_pty_master = -1; /* the link owns it now */
-  return pv_board_link_start(&g_link, app, fd, err, errcap);
+  return pv_board_link_start(&g_link, app, fd, err, errcap) == PV_BOARD_LINK_OK ? 0 : -1;
 }
 
 static void report_allocations(pv_board_app_t *app) {

@@ -39,7 +39,7 @@ void on_link(pv_board_app_t *app, int fd, short revents, void *) {
   char cmd[16];
   const ssize_t n = read(fd, cmd, sizeof cmd);
   for (ssize_t i = 0; i < n; ++i) {
-    if (cmd[i] == 's') assert_int_equal(pv_board_app_post(app, PV_EV_START_STOP), 0);
+    if (cmd[i] == 's') assert_int_equal(pv_board_app_post(app, PV_EV_START_STOP), PV_BOARD_APP_OK);
   }
 }
 
@@ -73,19 +73,19 @@ void link_drives_a_whole_scan(void **) {
   pv_board_config_default(&cfg);
   std::snprintf(cfg.display, sizeof cfg.display, "png:%s", dir);
   std::snprintf(cfg.input, sizeof cfg.input, "none");
-  if (pv_board_app_init(&g_app, &cfg, err, sizeof err) != 0) fail_msg("init: %s", err);
+  if (pv_board_app_init(&g_app, &cfg, err, sizeof err) != PV_BOARD_APP_OK) fail_msg("init: %s", err);
 
   Link link;
   int fds[2];
   assert_int_equal(pipe2(fds, O_NONBLOCK | O_CLOEXEC), 0);
   link.rd = fds[0];
   link.wr = fds[1];
-  assert_int_equal(pv_board_app_watch(&g_app, link.rd, 0, on_link, nullptr), 0);
-  assert_int_equal(pv_board_app_watch_events(&g_app, link.rd, POLLIN), 0);  // as a link would
-  assert_int_equal(pv_board_app_watch_events(&g_app, 12345, POLLIN), -1);
+  assert_int_equal(pv_board_app_watch(&g_app, link.rd, 0, on_link, nullptr), PV_BOARD_APP_OK);
+  assert_int_equal(pv_board_app_watch_events(&g_app, link.rd, POLLIN), PV_BOARD_APP_OK);  // as a link would
+  assert_int_equal(pv_board_app_watch_events(&g_app, 12345, POLLIN), PV_BOARD_APP_ERR_NOT_WATCHED);
   pv_board_app_set_observer(&g_app, on_news, &link);
 
-  assert_int_equal(pv_board_app_run(&g_app, err, sizeof err), 0);
+  assert_int_equal(pv_board_app_run(&g_app, err, sizeof err), PV_BOARD_APP_OK);
   pv_board_app_close(&g_app);
   pv_emu_destroy(emu);
   close(fds[0]);

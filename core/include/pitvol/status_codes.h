@@ -44,6 +44,8 @@
 #define PV_STATUS_BASE_UI 800           /* pv_ui_status_t (lib/ui: typed numbers, settings) */
 #define PV_STATUS_BASE_BOARD_CONFIG 850 /* pv_board_config_status_t (firmware) */
 #define PV_STATUS_BASE_WATCHDOG 900     /* pv_board_watchdog_status_t (firmware) */
-#define PV_STATUS_BASE_END 950          /* the first code no module has */
+#define PV_STATUS_BASE_BOARD_APP 950    /* pv_board_app_status_t (firmware: start, loop, queue) */
+#define PV_STATUS_BASE_BOARD_LINK 1000  /* pv_board_link_status_t (firmware: the link's start) */
+#define PV_STATUS_BASE_END 1050         /* the first code no module has */
 
 #endif /* PITVOL_STATUS_CODES_H */

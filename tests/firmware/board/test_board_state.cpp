@@ -1,5 +1,7 @@
 // The board's state machine (firmware/board_state.c), its configuration
 // file parser and the coverage hint, without devices.
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +13,7 @@
 extern "C" {
 #include "board_config.h"
 #include "board_app.h"
+#include "board_link.h"
 #include "board_screens.h"
 #include "board_state.h"
 #include "pitvol/advice.h"
@@ -307,10 +310,10 @@ void full_queue_counts_and_shows_lost_events(void **) {
   std::memset(&app, 0, sizeof app);
   pv_board_init(&app.model);
   for (unsigned i = 0; i < PV_BOARD_EVENT_QUEUE; ++i)
-    assert_int_equal(pv_board_app_post(&app, PV_EV_TICK), 0);
+    assert_int_equal(pv_board_app_post(&app, PV_EV_TICK), PV_BOARD_APP_OK);
   assert_int_equal(app.model.dropped_events, 0);
-  assert_int_equal(pv_board_app_post(&app, PV_EV_SCAN_ENDED), -1);
-  assert_int_equal(pv_board_app_post(&app, PV_EV_MEASURED), -1);
+  assert_int_equal(pv_board_app_post(&app, PV_EV_SCAN_ENDED), PV_BOARD_APP_ERR_QUEUE_FULL);
+  assert_int_equal(pv_board_app_post(&app, PV_EV_MEASURED), PV_BOARD_APP_ERR_QUEUE_FULL);
   assert_int_equal(app.model.dropped_events, 2);
   assert_int_equal(app.q_len, PV_BOARD_EVENT_QUEUE);
 
@@ -324,6 +327,102 @@ void full_queue_counts_and_shows_lost_events(void **) {
   m.state = PV_BOARD_REFUSED;
   m.result_status = PV_ERR_WALL_GAP;
   assert_true(has(screen_text(m), "|2 board events lost\n"));
+}
+
+void watch_nothing(pv_board_app_t *, int, short, void *) {}
+
+// The watch table holds PV_BOARD_MAX_WATCHES descriptors; one more is
+// refused and leaves the table as it was.
+void full_watch_table_refuses(void **) {
+  static pv_board_app_t app;  // the table only: no devices are opened
+  std::memset(&app, 0, sizeof app);
+  for (unsigned i = 0; i < PV_BOARD_MAX_WATCHES; ++i)
+    assert_int_equal(pv_board_app_watch(&app, 10 + (int)i, POLLIN, watch_nothing, nullptr),
+                     PV_BOARD_APP_OK);
+  assert_int_equal(pv_board_app_watch(&app, 20, POLLIN, watch_nothing, nullptr),
+                   PV_BOARD_APP_ERR_WATCHES_FULL);
+  assert_int_equal(app.nwatches, PV_BOARD_MAX_WATCHES);
+  for (size_t w = 0; w < app.nwatches; ++w) assert_int_not_equal(app.watches[w].fd, 20);
+
+  std::memset(&app, 0, sizeof app);
+  assert_int_equal(pv_board_app_watch(&app, -1, POLLIN, watch_nothing, nullptr),
+                   PV_BOARD_APP_ERR_WATCH_ARGUMENT);
+  assert_int_equal(pv_board_app_watch(&app, 10, POLLIN, nullptr, nullptr),
+                   PV_BOARD_APP_ERR_WATCH_ARGUMENT);
+  assert_int_equal(app.nwatches, 0);
+  assert_int_equal(pv_board_app_watch(&app, 10, POLLIN, watch_nothing, nullptr), PV_BOARD_APP_OK);
+  assert_int_equal(pv_board_app_watch_events(&app, 10, POLLIN | POLLOUT), PV_BOARD_APP_OK);
+  assert_int_equal(app.watches[0].events, POLLIN | POLLOUT);
+  assert_int_equal(pv_board_app_watch_events(&app, 11, POLLIN), PV_BOARD_APP_ERR_NOT_WATCHED);
+  assert_int_equal(app.watches[0].events, POLLIN | POLLOUT);
+}
+
+// The start refuses what it cannot set up with the part that failed and
+// the failing module's own name in the sentence.
+void init_names_the_part_that_failed(void **) {
+  static pv_board_app_t app;
+  char err[512] = "";
+  pv_board_config_t cfg;
+  pv_board_config_default(&cfg);
+  cfg.display_width = 0;  // outside its range: the configuration's check refuses it
+  assert_int_equal(pv_board_app_init(&app, &cfg, err, sizeof err), PV_BOARD_APP_ERR_CONFIG);
+  assert_non_null(std::strstr(err, "[PV_BOARD_CONFIG_ERR_"));
+  pv_board_app_close(&app);
+
+  pv_board_config_default(&cfg);
+  std::snprintf(cfg.display, sizeof cfg.display, "png:/nonexistent-pitvol-dir/screens");
+  err[0] = '\0';
+  assert_int_equal(pv_board_app_init(&app, &cfg, err, sizeof err), PV_BOARD_APP_ERR_DISPLAY);
+  assert_non_null(std::strstr(err, "[PV_DISPLAY_ERR_"));
+  pv_board_app_close(&app);
+}
+
+// A result log that cannot be opened stops the link's start (the board
+// does not run without keeping results unless told result_log = none).
+void link_start_refuses_a_log_it_cannot_open(void **) {
+  char file[] = "/tmp/pv_board_logXXXXXX";
+  const int fd = mkstemp(file);
+  assert_true(fd >= 0);
+  close(fd);
+  static pv_board_app_t app;
+  std::memset(&app, 0, sizeof app);
+  pv_board_config_default(&app.cfg);
+  std::snprintf(app.cfg.result_log, sizeof app.cfg.result_log, "%s/log", file);  // under a file
+  std::snprintf(app.cfg.serial, sizeof app.cfg.serial, "none");
+  static pv_board_link_t bl;
+  char err[512] = "";
+  assert_int_equal(pv_board_link_start(&bl, &app, -1, err, sizeof err), PV_BOARD_LINK_ERR_LOG);
+  assert_non_null(std::strstr(err, "cannot be opened"));
+  unlink(file);
+
+  // result_log = none and serial = none: a board without a link or a log.
+  std::snprintf(app.cfg.result_log, sizeof app.cfg.result_log, "none");
+  assert_int_equal(pv_board_link_start(&bl, &app, -1, err, sizeof err), PV_BOARD_LINK_OK);
+  pv_board_link_stop(&bl);
+}
+
+// Each code has its own name and a message; an unknown one is named so.
+void board_status_names(void **) {
+  std::vector<std::string> names;
+  for (int c = PV_STATUS_BASE_BOARD_APP + 1; c <= PV_BOARD_APP_ERR_POLL; ++c) {
+    const auto st = static_cast<pv_board_app_status_t>(c);
+    assert_non_null(std::strstr(pv_board_app_status_name(st), "PV_BOARD_APP_ERR_"));
+    assert_string_not_equal(pv_board_app_status_name(st), "PV_BOARD_APP_ERR_UNKNOWN");
+    assert_true(std::strlen(pv_board_app_status_message(st)) > 20);
+    names.emplace_back(pv_board_app_status_name(st));
+  }
+  for (int c = PV_STATUS_BASE_BOARD_LINK + 1; c <= PV_BOARD_LINK_ERR_WATCH; ++c) {
+    const auto st = static_cast<pv_board_link_status_t>(c);
+    assert_string_not_equal(pv_board_link_status_name(st), "PV_BOARD_LINK_ERR_UNKNOWN");
+    assert_true(std::strlen(pv_board_link_status_message(st)) > 20);
+    names.emplace_back(pv_board_link_status_name(st));
+  }
+  for (size_t i = 0; i < names.size(); ++i)
+    for (size_t j = i + 1; j < names.size(); ++j) assert_string_not_equal(names[i].c_str(), names[j].c_str());
+  assert_string_equal(pv_board_app_status_name(static_cast<pv_board_app_status_t>(999)),
+                      "PV_BOARD_APP_ERR_UNKNOWN");
+  assert_string_equal(pv_board_link_status_name(static_cast<pv_board_link_status_t>(1020)),
+                      "PV_BOARD_LINK_ERR_UNKNOWN");
 }
 
 void screens_say_what_matters(void **) {
@@ -557,6 +656,10 @@ int main() {
       cmocka_unit_test(config_ranges_are_the_cores),
       cmocka_unit_test(screens_say_what_matters),
       cmocka_unit_test(full_queue_counts_and_shows_lost_events),
+      cmocka_unit_test(full_watch_table_refuses),
+      cmocka_unit_test(init_names_the_part_that_failed),
+      cmocka_unit_test(link_start_refuses_a_log_it_cannot_open),
+      cmocka_unit_test(board_status_names),
       cmocka_unit_test(result_screen_shows_density),
       cmocka_unit_test(link_config_keys),
   };
