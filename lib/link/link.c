@@ -12,7 +12,7 @@
 #include "pitvol/le_bytes.h"
 
 _Static_assert(PV_LINK_DROPPED > PV_STATUS_BASE_LINK &&
-                   PV_LINK_WRITE_FAILED < PV_STATUS_BASE_LINK + PV_STATUS_RANGE,
+                   PV_LINK_RECORD_OUT_OF_RANGE < PV_STATUS_BASE_LINK + PV_STATUS_RANGE,
                "pv_link_status_t in its range (pitvol/status_codes.h)");
 
 _Static_assert(PV_LINK_MAX_WIRE_BYTES < 0xffffu, "slot length is 16 bits");
@@ -25,6 +25,8 @@ const char *pv_link_status_name(pv_link_status_t status) {
     case PV_LINK_ENCODE_FAILED: return "PV_LINK_ENCODE_FAILED";
     case PV_LINK_INVALID_ARGUMENT: return "PV_LINK_INVALID_ARGUMENT";
     case PV_LINK_WRITE_FAILED: return "PV_LINK_WRITE_FAILED";
+    case PV_LINK_RECORD_TEXT: return "PV_LINK_RECORD_TEXT";
+    case PV_LINK_RECORD_OUT_OF_RANGE: return "PV_LINK_RECORD_OUT_OF_RANGE";
   }
   return "PV_LINK_UNKNOWN";
 }
@@ -44,6 +46,11 @@ const char *pv_link_status_message(pv_link_status_t status) {
     case PV_LINK_INVALID_ARGUMENT: return "a NULL pointer was passed to the link; a caller bug";
     case PV_LINK_WRITE_FAILED:
       return "writing to the serial port failed; check the cable and the port";
+    case PV_LINK_RECORD_TEXT:
+      return "a test record's text is too long or holds a control character; the record is "
+             "unchanged, send it again in printable text";
+    case PV_LINK_RECORD_OUT_OF_RANGE:
+      return "a test record's number lies outside its allowed range; the record is unchanged";
   }
   return "unknown link status";
 }

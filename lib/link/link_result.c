@@ -18,29 +18,33 @@ uint64_t pv_link_result_time(int64_t clock_unix_s) {
   return clock_unix_s >= PV_LINK_PLAUSIBLE_UNIX_S ? (uint64_t)clock_unix_s : 0u;
 }
 
-int pv_link_record_apply(pv_link_record_t *rec, const pitvol_SetRecord *s, char *err, size_t cap) {
+pv_link_status_t pv_link_record_apply(pv_link_record_t *rec, const pitvol_SetRecord *s, char *err,
+                                      size_t cap) {
   pv_link_record_t next = *rec;
   if ((s->fields & pitvol_RecordField_RECORD_TEST_ID) &&
-      pv_input_text("test id", s->test_id, next.test_id, sizeof next.test_id, err, cap) != 0)
-    return -1;
+      pv_input_text("test id", s->test_id, next.test_id, sizeof next.test_id, err, cap) != PV_UI_OK)
+    return PV_LINK_RECORD_TEXT;
   if ((s->fields & pitvol_RecordField_RECORD_LOCATION) &&
-      pv_input_text("location", s->location, next.location, sizeof next.location, err, cap) != 0)
-    return -1;
+      pv_input_text("location", s->location, next.location, sizeof next.location, err, cap) !=
+          PV_UI_OK)
+    return PV_LINK_RECORD_TEXT;
   if ((s->fields & pitvol_RecordField_RECORD_OPERATOR) &&
       pv_input_text("operator", s->operator_name, next.operator_name, sizeof next.operator_name, err,
-                    cap) != 0)
-    return -1;
+                    cap) != PV_UI_OK)
+    return PV_LINK_RECORD_TEXT;
   if (s->fields & pitvol_RecordField_RECORD_MAX_DRY_DENSITY) {
-    if (pv_input_check(PV_INPUT_MAX_DRY_KG_M3, s->max_dry_density_kg_m3, err, cap) != 0) return -1;
+    if (pv_input_check(PV_INPUT_MAX_DRY_KG_M3, s->max_dry_density_kg_m3, err, cap) != PV_UI_OK)
+      return PV_LINK_RECORD_OUT_OF_RANGE;
     next.max_dry_density_kg_m3 = s->max_dry_density_kg_m3;
   }
   if (s->fields & pitvol_RecordField_RECORD_REQUIRED_COMPACTION) {
-    if (pv_input_check(PV_INPUT_REQUIRED_PERCENT, s->required_compaction_percent, err, cap) != 0)
-      return -1;
+    if (pv_input_check(PV_INPUT_REQUIRED_PERCENT, s->required_compaction_percent, err, cap) !=
+        PV_UI_OK)
+      return PV_LINK_RECORD_OUT_OF_RANGE;
     next.required_compaction_percent = s->required_compaction_percent;
   }
   *rec = next;
-  return 0;
+  return PV_LINK_OK;
 }
 
 static void put_density(pitvol_Result *out, const pv_link_result_source_t *src) {

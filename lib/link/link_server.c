@@ -200,7 +200,8 @@ static void set_record(pv_link_server_t *srv, const pv_link_rx_t *rx) {
   memset(&rec, 0, sizeof rec);
   srv->cfg.app->get_record(srv->cfg.ctx, &rec);
   char why[sizeof(((pitvol_Nack *)0)->reason)];
-  if (pv_link_record_apply(&rec, &rx->msg.body.set_record, why, sizeof why) != 0) {
+  if (pv_link_record_apply(&rec, &rx->msg.body.set_record, why, sizeof why) != PV_LINK_OK) {
+    /* The sentence names the field and its limit; the Nack carries it. */
     nack(srv, rx->seq, pitvol_NackCode_NACK_OUT_OF_RANGE, why);
     return;
   }

@@ -120,11 +120,20 @@ void record_apply_is_all_or_nothing(void **) {
   std::snprintf(s.test_id, sizeof s.test_id, "FDT-1");
   s.required_compaction_percent = 400;  // outside 50 .. 110
   char why[120] = "";
-  assert_int_equal(pv_link_record_apply(&rec, &s, why, sizeof why), -1);
+  assert_int_equal(pv_link_record_apply(&rec, &s, why, sizeof why), PV_LINK_RECORD_OUT_OF_RANGE);
   assert_non_null(std::strstr(why, "outside"));
   assert_string_equal(rec.test_id, "");
+  // A control character in a text field: refused as text, nothing applied.
   s.required_compaction_percent = 95;
-  assert_int_equal(pv_link_record_apply(&rec, &s, why, sizeof why), 0);
+  std::snprintf(s.test_id, sizeof s.test_id, "FDT\n1");
+  assert_int_equal(pv_link_record_apply(&rec, &s, why, sizeof why), PV_LINK_RECORD_TEXT);
+  assert_string_equal(rec.test_id, "");
+  assert_true(rec.required_compaction_percent == 0);
+  assert_string_equal(pv_link_status_name(PV_LINK_RECORD_TEXT), "PV_LINK_RECORD_TEXT");
+  assert_string_equal(pv_link_status_name(PV_LINK_RECORD_OUT_OF_RANGE),
+                      "PV_LINK_RECORD_OUT_OF_RANGE");
+  std::snprintf(s.test_id, sizeof s.test_id, "FDT-1");
+  assert_int_equal(pv_link_record_apply(&rec, &s, why, sizeof why), PV_LINK_OK);
   assert_string_equal(rec.test_id, "FDT-1");
   assert_string_equal(rec.location, "STA 1");
   assert_true(rec.required_compaction_percent == 95);

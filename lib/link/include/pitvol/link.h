@@ -62,7 +62,9 @@ typedef enum pv_link_status {
   PV_LINK_QUEUE_FULL = 502,       /* a reliable message was refused: flush, then send again */
   PV_LINK_ENCODE_FAILED = 503,    /* the message does not encode (a string too long?) */
   PV_LINK_INVALID_ARGUMENT = 504, /* NULL pointer */
-  PV_LINK_WRITE_FAILED = 505      /* the write callback reported an error */
+  PV_LINK_WRITE_FAILED = 505,     /* the write callback reported an error */
+  PV_LINK_RECORD_TEXT = 506,      /* a SetRecord's text is too long or has a control character */
+  PV_LINK_RECORD_OUT_OF_RANGE = 507 /* a SetRecord's number lies outside its range */
 } pv_link_status_t;
 
 /* Short name and a sentence for the user. Never NULL. */

@@ -37,10 +37,12 @@ typedef struct pv_link_record {
   double required_compaction_percent;  /* 0: none */
 } pv_link_record_t;
 
-/* Applies the fields a SetRecord names, all or none: 0, or -1 with one
- * line in err (a control character, a value outside its range). */
-PV_NODISCARD int pv_link_record_apply(pv_link_record_t *rec, const pitvol_SetRecord *s, char *err,
-                                      size_t cap);
+/* Applies the fields a SetRecord names, all or none: PV_LINK_OK, or
+ * PV_LINK_RECORD_TEXT (too long, a control character) or
+ * PV_LINK_RECORD_OUT_OF_RANGE with one line in err naming the field. */
+PV_NODISCARD pv_link_status_t pv_link_record_apply(pv_link_record_t *rec,
+                                                   const pitvol_SetRecord *s, char *err,
+                                                   size_t cap);
 
 /* What a Result is made of. */
 typedef struct pv_link_result_source {
