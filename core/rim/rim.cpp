@@ -5,6 +5,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "common/draws.h"
+
 namespace pv::rim {
 
 namespace {
@@ -83,11 +85,8 @@ GroundPlane fit_ground_plane(const Eigen::Vector3d *pts, size_t n, const Params 
   // scan --family bowl --arc 300 --seed 5: with a 10 deg limit the ground
   // is not found and the volume reads +22 %).
   const double cos_max = std::cos(kMaxGroundTiltDeg * 3.14159265358979323846 / 180.0);
-  uint64_t state = 0x9E3779B97F4A7C15ull;
-  auto next = [&state, m]() {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    return size_t((state >> 33) % m);
-  };
+  LcgDraws draws{0x9E3779B97F4A7C15ull};
+  auto next = [&draws, m]() { return draws.next(m); };
   uint32_t best = 0;
   Eigen::Vector3d bn = Eigen::Vector3d::UnitZ();
   double bd = 0;

@@ -5,6 +5,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "common/draws.h"
+
 #include "common/angle.h"
 
 namespace pv::rim {
@@ -103,11 +105,8 @@ SupportPlane fit_support_plane(const Eigen::Vector3d *pts, size_t n, double max_
     return angle_of_cos(nn.z()) > max_tilt;
   };
   // Deterministic draws: the same scan gives the same plane.
-  uint64_t state = 0xD1B54A32D192ED03ull;
-  auto next = [&state, m]() {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    return size_t((state >> 33) % m);
-  };
+  LcgDraws draws{0xD1B54A32D192ED03ull};
+  auto next = [&draws, m]() { return draws.next(m); };
   // Of the openings drawn, the one with most points on it less twice those
   // above: of two planes through the same sparse strip of ground, the one
   // that leaves fewer points above.
