@@ -278,7 +278,6 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out) {
   const pv_status_t st = final_transform(s, &t);
   if (st != PV_OK) return fail(st);
   out->tilt_deg = t.tilt_deg();
-  if (out->tilt_deg > 30.0 && out->tilt_deg < 150.0) out->warnings |= PV_WARN_LARGE_TILT;
   const double bound_cm3 = volume_bound_mm3(s, t) / 1000.0;
   if (bound_cm3 >= 0.0 && bound_cm3 < kMinVolumeCm3) {
     out->failed_check = PV_PIT_CHECK_TOO_SMALL;
@@ -287,9 +286,16 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out) {
     return fail(PV_ERR_NOT_A_PIT);
   }
 
-  // Method surface levels on the ground or the rim plane (level_surface.cpp).
+  // Method surface levels on the plane of the opening (level_surface.cpp).
   double surface_rim_mm = -1.0;
-  if (s->cfg.method == PV_METHOD_SURFACE) surface_rim_mm = level_for_surface(s, &t);
+  if (s->cfg.method == PV_METHOD_SURFACE) {
+    surface_rim_mm = level_for_surface(s, &t);
+    // The frame the volume is measured in: levelled on the opening, and
+    // from the scanner's own axis where the floor plane was far off (a
+    // rounded bowl's floor fit 80 deg from a scan held 12 deg off).
+    out->tilt_deg = t.tilt_deg();
+  }
+  if (out->tilt_deg > 30.0 && out->tilt_deg < 150.0) out->warnings |= PV_WARN_LARGE_TILT;
   // The rim: the rim plane (method surface without a ground ring), else
   // the ground ring, else the top of the wall over the final layers.
   double rim_mm = surface_rim_mm;

@@ -239,7 +239,9 @@ typedef struct pv_result {
   pv_status_t status;
   double volume_cm3;
   double depth_mm;          /* bottom plane to rim */
-  double tilt_deg;          /* angle of the bottom normal from scanner +Z */
+  double tilt_deg;          /* angle of the levelled frame's up from scanner +Z:
+                               the bottom normal (paper, polar), the opening's
+                               normal (surface) */
   double rim_area_mm2;      /* cross-section of the highest kept layer */
   double gap_from_mm;       /* widest band without a usable contour, */
   double gap_to_mm;         /* heights above the bottom (0, 0 if none) */
