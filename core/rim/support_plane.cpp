@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
-
-#include "common/draws.h"
+#include <Eigen/Geometry>  // cross
 
 #include "common/angle.h"
+#include "common/draws.h"
+#include "levelling/plane_fit.h"
 
 namespace pv::rim {
 
@@ -134,31 +134,15 @@ SupportPlane fit_support_plane(const Eigen::Vector3d *pts, size_t n, double max_
     }
   }
   if (!any) return sp;
-  // Total least squares on the points on the plane, three rounds.
+  // Total least squares on the points on the plane, three rounds (the
+  // levelling's refinement: n . p + d = 0, so d is minus this plane's).
+  levelling::Plane plane{bn, -bd};
   for (int round = 0; round < 3; ++round) {
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    uint32_t cnt = 0;
-    for (size_t i = 0; i < n; ++i) {
-      if (std::fabs(bn.dot(pts[i]) - bd) <= kOnMm) {
-        mean += pts[i];
-        ++cnt;
-      }
-    }
-    if (cnt < kMinOn) return sp;
-    mean /= double(cnt);
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (size_t i = 0; i < n; ++i) {
-      if (std::fabs(bn.dot(pts[i]) - bd) <= kOnMm) {
-        const Eigen::Vector3d v = pts[i] - mean;
-        cov += v * v.transpose();
-      }
-    }
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
-    Eigen::Vector3d nn = es.eigenvectors().col(0);
-    if (nn.z() < 0) nn = -nn;
-    bn = nn;
-    bd = nn.dot(mean);
+    if (levelling::refine_plane(pts, n, kOnMm, &plane) < kMinOn) return sp;
   }
+  if (plane.n.z() < 0) plane = levelling::Plane{-plane.n, -plane.d};
+  bn = plane.n;
+  bd = -plane.d;
   const Count ct = count(pts, n, bn, bd);
   sp.on = ct.on;
   sp.above = ct.above;

@@ -98,8 +98,10 @@ double bottom_mm(pv_session *s, const levelling::Transform &t) {
   std::nth_element(s->lv.v, s->lv.v + k, s->lv.v + n);
   return s->lv.v[k];
 }
-void bottom_to_zero(pv_session *s, levelling::Transform *t, double *rim_mm) {
-  const double shift = bottom_mm(s, *t) - kBottomMarginMm;
+// Moves the frame so that a bottom at bottom height sits at z = 0 (less
+// the margin); the rim height moves with it.
+void bottom_to_zero(double bottom, levelling::Transform *t, double *rim_mm) {
+  const double shift = bottom - kBottomMarginMm;
   t->t.z() -= shift;
   if (*rim_mm > 0) *rim_mm -= shift;
 }
@@ -129,7 +131,8 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, double *rim_mm) {
   if (!sp.found) return false;
   rotate_onto_z(sp.normal, t);
   *rim_mm = sp.d;
-  if (bottom_mm(s, *t) < -kLostBottomMm) bottom_to_zero(s, t, rim_mm);
+  const double bottom = bottom_mm(s, *t);
+  if (bottom < -kLostBottomMm) bottom_to_zero(bottom, t, rim_mm);
   return true;
 }
 
@@ -146,7 +149,7 @@ double level_for_surface(pv_session *s, levelling::Transform *t) {
   const Eigen::Vector3d scanner_z = t->R.col(2);
   rotate_onto_z(scanner_z.z() >= 0 ? scanner_z : Eigen::Vector3d(-scanner_z), &upright);
   if (!level_on_opening(s, &upright, &rim_mm)) return -1.0;
-  bottom_to_zero(s, &upright, &rim_mm);
+  bottom_to_zero(bottom_mm(s, upright), &upright, &rim_mm);
   *t = upright;
   return rim_mm;
 }
