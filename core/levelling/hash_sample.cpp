@@ -13,24 +13,73 @@ static bool entry_less(const SampleEntry &a, const SampleEntry &b) {
   return std::memcmp(&a.p, &b.p, sizeof a.p) < 0;  // NOLINT(bugprone-suspicious-memory-comparison)
 }
 
-void HashSample::init(SampleEntry *storage, uint32_t capacity) {
+uint32_t HashSample::set_slots_for(uint32_t capacity) {
+  uint32_t slots = 1;
+  while (slots < 2 * uint64_t(capacity)) slots <<= 1;
+  return slots;
+}
+
+void HashSample::init(SampleEntry *storage, uint32_t capacity, uint64_t *set) {
   heap_ = storage;
   capacity_ = capacity;
+  set_ = set;
+  set_mask_ = set != nullptr ? set_slots_for(capacity) - 1 : 0;
   clear();
+}
+
+void HashSample::clear() {
+  size_ = 0;
+  reject_above_ = ~uint64_t(0);
+  if (set_ != nullptr) std::fill(set_, set_ + set_mask_ + 1, uint64_t(0));
+}
+
+bool HashSample::set_contains(uint64_t key) const {
+  for (uint32_t i = uint32_t(key) & set_mask_;; i = (i + 1) & set_mask_) {
+    if (set_[i] == key) return true;
+    if (set_[i] == 0) return false;
+  }
+}
+
+void HashSample::set_insert(uint64_t key) {
+  uint32_t i = uint32_t(key) & set_mask_;
+  while (set_[i] != 0) i = (i + 1) & set_mask_;
+  set_[i] = key;
+}
+
+// Backward-shift deletion: the keys after the hole that may move into it
+// (their home slot is not between the hole and them) move back, so every
+// key stays reachable from its home without tombstones.
+void HashSample::set_erase(uint64_t key) {
+  uint32_t hole = uint32_t(key) & set_mask_;
+  while (set_[hole] != key) hole = (hole + 1) & set_mask_;
+  for (uint32_t j = (hole + 1) & set_mask_; set_[j] != 0; j = (j + 1) & set_mask_) {
+    const uint32_t home = uint32_t(set_[j]) & set_mask_;
+    if (((j - home) & set_mask_) >= ((j - hole) & set_mask_)) {
+      set_[hole] = set_[j];
+      hole = j;
+    }
+  }
+  set_[hole] = 0;
 }
 
 void HashSample::offer_slow(const P3 &p, uint64_t hash) {
   const SampleEntry e{hash, p};
+  if (set_ != nullptr && set_contains(set_key(hash))) return;  // kept already
   if (size_ < capacity_) {
     heap_[size_] = e;
     sift_up(size_++);
+    if (set_ != nullptr) set_insert(set_key(hash));
     if (size_ == capacity_) reject_above_ = heap_[0].hash;
     return;
   }
   if (capacity_ == 0 || !entry_less(e, heap_[0])) return;
-  // An exact duplicate of the largest entry would compare equal: skipped
-  // above. Duplicates of smaller entries may enter; the set stays a
-  // function of the multiset of points pushed.
+  // Without the set, an exact duplicate of the largest entry compares
+  // equal (skipped above) but duplicates of smaller entries enter; the
+  // sample stays a function of the multiset of points pushed.
+  if (set_ != nullptr) {
+    set_erase(set_key(heap_[0].hash));
+    set_insert(set_key(hash));
+  }
   heap_[0] = e;
   sift_down(0);
   reject_above_ = heap_[0].hash;

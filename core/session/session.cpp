@@ -147,7 +147,14 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   pv_session *o = s ? s : &tmp;
 
   // What lives across calls: the sample, the bins, the per-layer results.
-  o->sample.init(cv.take<levelling::SampleEntry>(k), k);
+  // With the duplicate filter (resent points must not move the volume),
+  // the sample also keeps its points distinct: a whole scan sent again
+  // comes too late for the filter's window (levelling/hash_sample.h).
+  levelling::SampleEntry *sample_mem = cv.take<levelling::SampleEntry>(k);
+  uint64_t *sample_set = c.duplicate_filter != 0
+                             ? cv.take<uint64_t>(levelling::HashSample::set_slots_for(k))
+                             : nullptr;
+  o->sample.init(sample_mem, k, block != nullptr ? sample_set : nullptr);
   if (c.duplicate_filter != 0) {
     void *dup_mem = cv.take<uint64_t>(binning::DuplicateFilter::bytes_needed() / sizeof(uint64_t));
     if (block != nullptr) o->duplicates.init(dup_mem);

@@ -1,5 +1,6 @@
 // Levelling: Rodrigues rotation, the hash sample, and recovery of a known
 // tilt (0-30 deg and upside down) with 30 % outliers inside the pit.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -54,6 +55,54 @@ void hash_sample_is_order_independent(void **) {
   for (const pv::P3 &p : pts) all.push_back(pv::point_hash(p));
   std::sort(all.begin(), all.end());
   for (int i = 0; i < 256; ++i) assert_true(ca[i].hash == all[size_t(i)]);
+}
+
+// A scan sent five times over, each copy in another order, keeps the
+// sample a single copy keeps: the 256 smallest distinct hashes, each once
+// (without the set, copies of the smaller hashes take the slots and about
+// a fifth of the sample is distinct). Many entries leave the sample on the
+// way, so the set's deletion is exercised too.
+void hash_sample_keeps_points_distinct(void **) {
+  constexpr uint32_t k = 256;
+  std::vector<pv::P3> pts;
+  for (int i = 0; i < 5000; ++i) pts.push_back(pv::P3{float(i) * 0.5f, float(i % 11), float(i % 17)});
+  std::vector<uint64_t> set1(pv::levelling::HashSample::set_slots_for(k)), set5(set1.size());
+  assert_true(set1.size() >= 2 * k && (set1.size() & (set1.size() - 1)) == 0);
+  pv::levelling::SampleEntry a[k], b[k], c[k], ca[k], cb[k], cc[k];
+  pv::levelling::HashSample once, five, plain;
+  once.init(a, k, set1.data());
+  five.init(b, k, set5.data());
+  plain.init(c, k);
+  for (const pv::P3 &p : pts) once.offer(p, pv::point_hash(p));
+  for (int copy = 0; copy < 5; ++copy) {
+    for (size_t j = 0; j < pts.size(); ++j) {
+      // Copy 0 forwards, 1 backwards, the others strided.
+      const size_t i = copy == 0 ? j : copy == 1 ? pts.size() - 1 - j : (j * 7919u * copy) % pts.size();
+      five.offer(pts[i], pv::point_hash(pts[i]));
+      plain.offer(pts[i], pv::point_hash(pts[i]));
+    }
+  }
+  once.canonical(ca);
+  five.canonical(cb);
+  plain.canonical(cc);
+  std::vector<uint64_t> all;
+  for (const pv::P3 &p : pts) all.push_back(pv::point_hash(p));
+  std::sort(all.begin(), all.end());
+  assert_int_equal(five.size(), k);
+  for (uint32_t i = 0; i < k; ++i) {
+    assert_true(cb[i].hash == all[i]);
+    assert_true(ca[i].hash == cb[i].hash);
+    assert_memory_equal(&ca[i].p, &cb[i].p, sizeof ca[i].p);
+  }
+  uint32_t distinct = 1;
+  for (uint32_t i = 1; i < k; ++i) distinct += cc[i].hash != cc[i - 1].hash;
+  assert_true(distinct < k / 2);  // what the set is for
+  // clear() empties the set with the sample: the same points enter again.
+  five.clear();
+  for (const pv::P3 &p : pts) five.offer(p, pv::point_hash(p));
+  five.canonical(cb);
+  assert_int_equal(five.size(), k);
+  for (uint32_t i = 0; i < k; ++i) assert_true(cb[i].hash == all[i]);
 }
 
 // A floor scanned twice, 2 mm apart along its normal (tracking slipped):
@@ -146,6 +195,7 @@ int main() {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(rodrigues_maps_normal_onto_z),
       cmocka_unit_test(hash_sample_is_order_independent),
+      cmocka_unit_test(hash_sample_keeps_points_distinct),
       cmocka_unit_test(recovers_tilt_with_30_percent_outliers),
       cmocka_unit_test(too_few_points_is_reported),
       cmocka_unit_test(doubled_floor_gives_the_denser_copy),

@@ -80,6 +80,30 @@ void shuffled_input_gives_the_same_volume(void **) {
   assert_true(std::fabs(rb.tilt_deg - ra.tilt_deg) < 1e-9);  // same sample, same plane
 }
 
+// A scan sent again whole, after the duplicate filter's window, levels as
+// the single copy does: the levelling sample keeps distinct points, so it
+// is the single copy's sample and the plane fitted on it the same bits.
+// (With copies in the sample, three copies left a third of it distinct and
+// the plane moved.)
+void a_scan_sent_again_levels_as_once(void **) {
+  pv::synth::PitSpec spec;
+  spec.seed = 6;
+  spec.tilt_deg = 9.0;
+  const std::vector<pv_point_t> pts = scan_points(spec, 120000);
+  std::vector<pv_point_t> thrice;
+  for (int copy = 0; copy < 3; ++copy) thrice.insert(thrice.end(), pts.begin(), pts.end());
+  TestSession once(PV_METHOD_PAPER), again(PV_METHOD_PAPER);
+  assert_int_equal(once.push_all(pts, 4096), PV_OK);
+  assert_int_equal(again.push_all(thrice, 4096), PV_OK);
+  pv_result_t r1, r3;
+  assert_int_equal(pv_session_finish(once.s, &r1), PV_OK);
+  assert_int_equal(pv_session_finish(again.s, &r3), PV_OK);
+  pv_transform_t t1, t3;
+  assert_int_equal(pv_session_transform(once.s, &t1), PV_OK);
+  assert_int_equal(pv_session_transform(again.s, &t3), PV_OK);
+  assert_memory_equal(t1.rotation, t3.rotation, sizeof t1.rotation);
+}
+
 void same_input_same_bits_and_reset_reuses_the_block(void **) {
   pv::synth::PitSpec spec;
   spec.seed = 5;
@@ -245,6 +269,7 @@ int main() {
       cmocka_unit_test(measures_a_tilted_cylinder),
       cmocka_unit_test(measures_pits_of_other_shapes_and_poses),
       cmocka_unit_test(shuffled_input_gives_the_same_volume),
+      cmocka_unit_test(a_scan_sent_again_levels_as_once),
       cmocka_unit_test(same_input_same_bits_and_reset_reuses_the_block),
       cmocka_unit_test(estimate_while_streaming_then_finish),
       cmocka_unit_test(estimate_during_warmup_changes_nothing),
