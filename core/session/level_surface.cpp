@@ -131,6 +131,11 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, double *rim_mm) {
   if (!sp.found) return false;
   rotate_onto_z(sp.normal, t);
   *rim_mm = sp.d;
+  // A ground too steep in the start frame to be found there (a rounded
+  // bowl's floor fit can be 40 deg off a ground) may be found from the
+  // support plane's frame, within a few degrees of it: the ground is the
+  // better plane where there is one.
+  if (level_on_ground(s, t)) *rim_mm = -1.0;
   const double bottom = bottom_mm(s, *t);
   if (bottom < -kLostBottomMm) bottom_to_zero(bottom, t, rim_mm);
   return true;
