@@ -71,7 +71,8 @@ bool is_ledge(pv_session *s, const rim::GroundPlane &gp) {
   return double(densest) < kMinParallelShare * double(above);
 }
 
-bool level_on_ground(pv_session *s, levelling::Transform *t) {
+// On success the ground plane, rotated onto +Z, is z = *ground_mm.
+bool level_on_ground(pv_session *s, levelling::Transform *t, double *ground_mm) {
   const uint32_t n = s->sample.size();
   for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t->apply(s->sample_points[i]);
   rim::Params rp;
@@ -82,6 +83,7 @@ bool level_on_ground(pv_session *s, levelling::Transform *t) {
   if (!gp.found) return false;
   if (is_ledge(s, gp)) return false;
   rotate_onto_z(gp.normal, t);
+  *ground_mm = gp.d;  // a rotation about the origin keeps the plane's offset
   return true;
 }
 
@@ -133,17 +135,18 @@ double bottom_mm(pv_session *s, const levelling::Transform &t) {
 }
 // Moves the frame so that a bottom at bottom height sits at z = 0 (less
 // the margin); the rim height moves with it.
-void bottom_to_zero(double bottom, levelling::Transform *t, double *rim_mm) {
+void bottom_to_zero(double bottom, levelling::Transform *t, Opening *o) {
   const double shift = bottom - kBottomMarginMm;
   t->t.z() -= shift;
-  if (*rim_mm > 0) *rim_mm -= shift;
+  if (o->rim_mm > 0) o->rim_mm -= shift;
+  if (o->ground_mm > 0) o->ground_mm -= shift;
 }
 
 // The ground (strict), else the rim plane, else the support plane, all in
 // frame t. Returns false if none was found; t is then unchanged.
-bool level_on_opening(pv_session *s, levelling::Transform *t, double *rim_mm) {
-  *rim_mm = -1.0;
-  if (level_on_ground(s, t)) return true;
+bool level_on_opening(pv_session *s, levelling::Transform *t, Opening *o) {
+  *o = Opening{};
+  if (level_on_ground(s, t, &o->ground_mm)) return true;
   rim::SectorTops tops;
   sector_tops(s, *t, &tops);
   const rim::RimPlane rp = rim::fit_rim_plane(tops);
@@ -152,7 +155,7 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, double *rim_mm) {
     // The rim plane's height after the rotation: the rotated plane is
     // z = d (its normal is +Z, its offset unchanged by a rotation about the
     // origin).
-    *rim_mm = rp.d;
+    o->rim_mm = rp.d;
     return true;
   }
   const uint32_t n = s->sample.size();
@@ -163,22 +166,22 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, double *rim_mm) {
       s->lv.a, n, kSupportMaxTiltDeg, s->lv.v, reinterpret_cast<uint32_t *>(s->lv.b));
   if (!sp.found) return false;
   rotate_onto_z(sp.normal, t);
-  *rim_mm = sp.d;
+  o->rim_mm = sp.d;
   // A ground too steep in the start frame to be found there (a rounded
   // bowl's floor fit can be 40 deg off a ground) may be found from the
   // support plane's frame, within a few degrees of it: the ground is the
   // better plane where there is one.
-  if (level_on_ground(s, t)) *rim_mm = -1.0;
+  if (level_on_ground(s, t, &o->ground_mm)) o->rim_mm = -1.0;
   const double bottom = bottom_mm(s, *t);
-  if (bottom < -kLostBottomMm) bottom_to_zero(bottom, t, rim_mm);
+  if (bottom < -kLostBottomMm) bottom_to_zero(bottom, t, o);
   return true;
 }
 
 }  // namespace
 
-double level_for_surface(pv_session *s, levelling::Transform *t) {
-  double rim_mm = -1.0;
-  if (level_on_opening(s, t, &rim_mm)) return rim_mm;
+Opening level_for_surface(pv_session *s, levelling::Transform *t) {
+  Opening o;
+  if (level_on_opening(s, t, &o)) return o;
   // The floor-plane frame can be far from level where the floor is not
   // flat (a rounded bowl: 20-40 deg). A handheld scan is held roughly
   // upright, so the scanner's own axis (the same way up as the floor fit)
@@ -186,10 +189,10 @@ double level_for_surface(pv_session *s, levelling::Transform *t) {
   levelling::Transform upright = *t;
   const Eigen::Vector3d scanner_z = t->R.col(2);
   rotate_onto_z(scanner_z.z() >= 0 ? scanner_z : Eigen::Vector3d(-scanner_z), &upright);
-  if (!level_on_opening(s, &upright, &rim_mm)) return -1.0;
-  bottom_to_zero(bottom_mm(s, upright), &upright, &rim_mm);
+  if (!level_on_opening(s, &upright, &o)) return Opening{};
+  bottom_to_zero(bottom_mm(s, upright), &upright, &o);
   *t = upright;
-  return rim_mm;
+  return o;
 }
 
 }  // namespace pv::session

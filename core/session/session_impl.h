@@ -189,9 +189,16 @@ pv_status_t measure(pv_session *s, pv_result_t *out);
 // Method surface: re-levels t on the plane of the opening: the ground ring
 // when the scan has one, else the rim plane (the wall's top edge), else the
 // support plane, from the floor-plane frame, then from the scanner-upright
-// one (level_surface.cpp). Returns the rim height when a plane other than
-// the ground set it, else a negative value (the rim stage decides).
-double level_for_surface(pv_session *s, levelling::Transform *t);
+// one (level_surface.cpp).
+struct Opening {
+  // The rim height when a plane other than the ground set it, else
+  // negative (the rim stage decides).
+  double rim_mm = -1.0;
+  // Levelled on the ground: its plane's height, the rim where the ground's
+  // peak is not found (sparse ground under strays); else negative.
+  double ground_mm = -1.0;
+};
+Opening level_for_surface(pv_session *s, levelling::Transform *t);
 // The surface method's part of measure(): from the levelled stored points,
 // the rim and the bottom of the grid to the result (measure_surface.cpp).
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,

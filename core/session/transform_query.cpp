@@ -43,8 +43,8 @@ pv_status_t query(pv_session *s, pv_transform_t *out) {
   }
   // As measure(): method surface re-levels (ground ring, else rim plane)
   // before the layers are assigned.
-  double surface_rim_mm = -1.0;
-  if (s->cfg.method == PV_METHOD_SURFACE) surface_rim_mm = level_for_surface(s, &t);
+  Opening opening;
+  if (s->cfg.method == PV_METHOD_SURFACE) opening = level_for_surface(s, &t);
   layer_weights(s, t);
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) out->rotation[3 * r + c] = t.R(r, c);
@@ -57,9 +57,13 @@ pv_status_t query(pv_session *s, pv_transform_t *out) {
   const rim::Ground g = rim::detect_ground(s->lv.a, n, rp, s->lv.v);
   out->rim_from_ground = g.found ? 1u : 0u;
   out->rim_mm = g.found ? g.z_mm : rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
-  if (surface_rim_mm > 0.0) {
+  if (!g.found && opening.ground_mm > 0.0) {  // the ground's plane (measure.cpp)
+    out->rim_from_ground = 1u;
+    out->rim_mm = opening.ground_mm;
+  }
+  if (opening.rim_mm > 0.0) {
     out->rim_from_ground = 0u;  // the rim plane (no ground ring)
-    out->rim_mm = surface_rim_mm;
+    out->rim_mm = opening.rim_mm;
   }
   if (!(out->rim_mm > 0.0)) {
     out->rim_mm = -1.0;
