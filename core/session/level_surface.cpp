@@ -181,7 +181,10 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, Opening *o) {
 
 Opening level_for_surface(pv_session *s, levelling::Transform *t) {
   Opening o;
-  if (level_on_opening(s, t, &o)) return o;
+  if (level_on_opening(s, t, &o)) {
+    o.found = true;
+    return o;
+  }
   // The floor-plane frame can be far from level where the floor is not
   // flat (a rounded bowl: 20-40 deg). A handheld scan is held roughly
   // upright, so the scanner's own axis (the same way up as the floor fit)
@@ -192,6 +195,7 @@ Opening level_for_surface(pv_session *s, levelling::Transform *t) {
   if (!level_on_opening(s, &upright, &o)) return Opening{};
   bottom_to_zero(bottom_mm(s, upright), &upright, &o);
   *t = upright;
+  o.found = true;
   return o;
 }
 

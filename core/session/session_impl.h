@@ -191,6 +191,9 @@ pv_status_t measure(pv_session *s, pv_result_t *out);
 // support plane, from the floor-plane frame, then from the scanner-upright
 // one (level_surface.cpp).
 struct Opening {
+  // A plane of the opening was found (else t is the floor plane's frame,
+  // which on a pit without a flat floor can be 10-40 deg off).
+  bool found = false;
   // The rim height when a plane other than the ground set it, else
   // negative (the rim stage decides).
   double rim_mm = -1.0;

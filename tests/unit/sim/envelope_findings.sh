@@ -93,4 +93,9 @@ measure 79 1302
 # (seed 1302). The ground's plane is the rim there.
 measure 276 1302
 [ "$status" = PV_OK ] && within 0.3 || fail "1302/276 (ground under strays): $status $volume cm3 against $exact"
-echo "envelope findings: 13 cases as expected"
+# A sparse 250 L rounded bowl without surround: no opening found from
+# either start, the floor plane's frame (a tangent 9 deg off) and the
+# wall's top read +28.5 % with PV_OK (seed 1302). No opening, no lid.
+measure 69 1302
+[ "$status" = PV_ERR_NO_RIM ] || fail "1302/69 (no opening found): $status $volume cm3 against $exact"
+echo "envelope findings: 14 cases as expected"
