@@ -19,20 +19,19 @@ double median_of(double *v, size_t n) {
 }
 
 // The top band of the levelled heights: from z_top - band_ratio * z_top to
-// z_hi = z_top + kAboveTopMm, z_top the 98 % quantile. Points that float
+// z_hi = z_top + kAboveTopMm, z_top the 98 % quantile (Params::top_quantile). Points that float
 // above the ground (multipath, dust; up to 40 mm, 0.3 % of a shallow pit's
 // points in the sweeps) must not stretch it: at the 99.9 % quantile an
 // 80 mm deep pit's band began 2 mm above its ground, the ground was not
 // found and the rim came out 29 mm high (+40 %). A ground ring holds far
 // more than 2 % of the points, so the quantile lies on it or below it.
-constexpr double kTopQuantile = 0.98;
 constexpr double kAboveTopMm = 3.0;
 struct Band {
   double z_from, z_hi;
 };
 Band top_band(const Eigen::Vector3d *pts, size_t n, const Params &p, double *scratch) {
   for (size_t i = 0; i < n; ++i) scratch[i] = pts[i].z();
-  const size_t k = size_t(kTopQuantile * double(n - 1));
+  const size_t k = size_t(p.top_quantile * double(n - 1));
   std::nth_element(scratch, scratch + k, scratch + n);
   const double z_top = scratch[k];
   return Band{z_top - p.band_ratio * z_top, z_top + kAboveTopMm};

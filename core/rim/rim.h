@@ -26,6 +26,7 @@ struct Params {
   double band_ratio = 0.2;        // top candidates: top 20 % of the z-range
   double peak_window_mm = 1.0;    // width of the ground peak window
   double ground_share = 0.25;     // share of the band a ground peak must hold
+  double top_quantile = 0.98;     // the band's top: this height quantile (rim.cpp)
 };
 
 struct Ground {

@@ -98,4 +98,9 @@ measure 276 1302
 # wall's top read +28.5 % with PV_OK (seed 1302). No opening, no lid.
 measure 69 1302
 [ "$status" = PV_ERR_NO_RIM ] || fail "1302/69 (no opening found): $status $volume cm3 against $exact"
-echo "envelope findings: 14 cases as expected"
+# A shallow wide pit whose ground ring holds under a quarter of the top
+# band (20 % of the depth down the wall): levelled on its support plane,
+# +0.27 %; the ground found in the narrow band reads -0.05 % (tuning seed 1).
+measure 245
+[ "$status" = PV_OK ] && within 0.2 || fail "245 (ground in the narrow band): $status $volume cm3 against $exact"
+echo "envelope findings: 15 cases as expected"
