@@ -42,10 +42,11 @@ size_t layout(const Capacity &c, unsigned char *base, Workspace *ws) {
   w.wall_lo = take<float>(base, &off, bins);
   w.wall_hi = take<float>(base, &off, bins);
   w.floor = take<FloorCell>(base, &off, cells);
-  w.slab_top = take<float>(base, &off, size_t(c.slabs) * kAxisSectors * 2);
+  w.slab_top = take<float>(base, &off,
+                           std::max<size_t>(size_t(c.slabs) * kAxisSectors * 2, c.theta_bins));
   w.ray_floor = take<float>(base, &off, rays);
   w.ray_max = take<float>(base, &off, rays);
-  w.lip_cap = w.ray_max;  // theta_bins <= rays
+  w.lip_cap = w.slab_top;
   w.fill_idx = take<uint32_t>(base, &off, bins);
   w.fill_val = take<float>(base, &off, std::max(bins * 3, cells));
   w.queue = take<uint32_t>(base, &off, cells);

@@ -139,11 +139,13 @@ struct Workspace {
   float *wall_val;        // R at the bin centre (bridged where unseen)
   float *wall_lo, *wall_hi;  // bridged with the lower / higher neighbour
   FloorCell *floor;       // cells * cells
-  float *slab_top;        // slabs * kAxisSectors * 2: two largest radii
+  float *slab_top;        // max(slabs * kAxisSectors * 2, theta_bins): two largest radii
   float *ray_floor;       // theta_bins * ray_steps: floor along each ray
   float *ray_max;         // prefix maximum of ray_floor
-  // During build() only, in ray_max's memory (integrate() fills that
-  // afterwards): the container lip's cap per theta bin (container_lip.h).
+  // The container lip's cap per theta bin (container_lip.h), for the grid
+  // passes and for what reads the model after build(): in slab_top's
+  // memory, free once the axis is fit (ray_max's, where it was, integrate()
+  // overwrites).
   float *lip_cap;
   uint32_t *fill_idx;     // theta_bins * z_bins (bridging rounds)
   float *fill_val;        // max(theta_bins * z_bins * 3, cells * cells)
