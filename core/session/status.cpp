@@ -80,6 +80,7 @@ extern "C" const char *pv_pit_check_name(uint32_t check) {
     case PV_PIT_CHECK_DOUBLED_WALL: return "PV_PIT_CHECK_DOUBLED_WALL";
     case PV_PIT_CHECK_DOUBLED_FLOOR: return "PV_PIT_CHECK_DOUBLED_FLOOR";
     case PV_PIT_CHECK_TOO_SMALL: return "PV_PIT_CHECK_TOO_SMALL";
+    case PV_PIT_CHECK_DOUBLED_RIM: return "PV_PIT_CHECK_DOUBLED_RIM";
     default: return "PV_PIT_CHECK_UNKNOWN";
   }
 }
@@ -119,6 +120,11 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
     case PV_PIT_CHECK_TOO_SMALL:
       return "smaller than any test hole: a scan in centimetres or metres "
              "read as millimetres (give the file's units), or not a test pit";
+    case PV_PIT_CHECK_DOUBLED_RIM:
+      return "the ground (or the lip) around the pit appears twice, 8 to 40 mm "
+             "apart in height: the scan holds the pit twice, registered apart "
+             "(the scanner lost its tracking during the scan); scan the pit "
+             "again in one steady pass";
     default: return "unknown check";
   }
 }

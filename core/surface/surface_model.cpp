@@ -1381,10 +1381,26 @@ struct OccCtx {
   ThetaCache cache;  // as the last build() left it
 };
 
+// A point of the surround near the rim (Occupancy::rim_hist).
+void surround_point(OccCtx *x, const Point &q, double above) {
+  const Model &m = *x->m;
+  const double dx = q.x - m.axis.cx(q.z), dy = q.y - m.axis.cy(q.z);
+  const uint32_t t = x->ws->theta->bin(dx, dy);
+  const double r = std::sqrt(dx * dx + dy * dy);
+  if (!(r > radius_at(x->ws->wall_val, x->g, t, q.z) + kOutsideWallMm)) return;
+  const float cap = x->ws->lip_cap[t];
+  if (cap < HUGE_VALF && !(r < double(cap) - kLipTolMm)) return;
+  const auto h = uint32_t(above);
+  ++x->o->rim_hist[h];
+  x->o->rim_sectors[h] |= uint64_t(1) << (t * kRimSectors / x->g.T);
+}
+
 void occupancy_pass(void *c, const Point &q) {
   auto *x = static_cast<OccCtx *>(c);
   const Model &m = *x->m;
   const size_t idx = x->cache.next++;
+  const double above = q.z - (m.rim_mm - kRimHistBelowMm);
+  if (above >= 0 && above < double(kRimHistBins)) surround_point(x, q, above);
   if (q.z >= m.rim_mm || q.z < m.z0_mm) return;
   ++x->o->points;
   if (q.z > m.rim_mm - x->margin) return;
@@ -1406,7 +1422,7 @@ void occupancy_pass(void *c, const Point &q) {
 
 Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
                     const Params &p, double margin_mm) {
-  Occupancy o{0, 0, 0, 0};
+  Occupancy o{};
   OccCtx c{&ws, &m, geo_of(ws, m, p), margin_mm, &o, theta_cache(ws)};
   src.visit(src.ctx, each<occupancy_pass>, &c);
   const size_t bins = size_t(ws.cap.theta_bins) * m.z_bins;
@@ -1414,6 +1430,64 @@ Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
     if (ws.wall[i].state == kSeen) o.max_radius_mm = std::max(o.max_radius_mm, double(ws.wall_val[i]));
   }
   return o;
+}
+
+namespace {
+
+// 3 mm of the histogram centred on bin i, and the mean of 1 mm in the 4 mm
+// from 3 to 6 mm below (from) or above it.
+double three_mm(const uint32_t *h, uint32_t i) { return double(h[i - 1]) + h[i] + h[i + 1]; }
+double side_mean(const uint32_t *h, int from, int to) {
+  double s = 0;
+  int n = 0;
+  for (int k = std::max(from, 0); k <= std::min(to, int(kRimHistBins) - 1); ++k, ++n) s += h[k];
+  return n ? s / n : 0.0;
+}
+uint32_t sectors_of(const uint64_t *m, uint32_t i) {
+  const uint64_t u = m[i - 1] | m[i] | m[i + 1];
+  uint32_t n = 0;
+  for (uint64_t v = u; v; v &= v - 1) ++n;
+  return n;
+}
+
+// Centres of the top's 3 mm (rim - 5 to rim + 2) and of a second level's
+// (rim - 40 to rim - 8), as histogram bins.
+constexpr uint32_t kTopFrom = 40, kTopTo = 46, kSecondFrom = 5, kSecondTo = 37;
+
+}  // namespace
+
+SecondLevel second_level(const Occupancy &o) {
+  const uint32_t *h = o.rim_hist;
+  double top = 0;
+  uint32_t top_at = kTopFrom;
+  for (uint32_t i = kTopFrom; i <= kTopTo; ++i) {
+    const double v = three_mm(h, i) - 3 * side_mean(h, int(i) - 6, int(i) - 3);
+    if (v > top) {
+      top = v;
+      top_at = i;
+    }
+  }
+  double second = 0, side = 0;
+  uint32_t at = kSecondFrom;
+  for (uint32_t i = kSecondFrom; i <= kSecondTo; ++i) {
+    const double b = std::max(side_mean(h, int(i) - 6, int(i) - 3), side_mean(h, int(i) + 3, int(i) + 6));
+    const double v = three_mm(h, i) - 3 * b;
+    if (v > second) {
+      second = v;
+      side = b;
+      at = i;
+    }
+  }
+  SecondLevel s{};
+  s.points = second;
+  // Counts: the side's 3 mm would hold 3 b points, give or take sqrt(3 b)
+  // (+1: a peak on an empty side is as sure as its points).
+  s.sigma = second / std::sqrt(3 * side + 1);
+  s.ratio = top > 0 ? second / top : 0.0;
+  s.below_rim_mm = kRimHistBelowMm - (at + 0.5);
+  s.sectors = sectors_of(o.rim_sectors, at);
+  s.top_sectors = sectors_of(o.rim_sectors, top_at);
+  return s;
 }
 
 void coverage(const Workspace &ws, const Model &m, const Params &p, uint32_t bands,

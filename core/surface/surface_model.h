@@ -260,12 +260,46 @@ Volume integrate(const Workspace &ws, const Model &m, const Params &p,
 // floor and below the rim). A pit's void holds only multipath and strays;
 // a mound scanned as a pit, or two surfaces stacked, fill it. Also the
 // largest wall radius, against the capacity of the grids.
+//
+// And the surround near the rim by height (rim_hist), for every point it
+// visits: a second pass that slipped along the axis puts its copy of the
+// ground ring (or a lip) a second level 8-40 mm from the first, outside the
+// wall, where a single scan's surround has one level. Where the slipped
+// pass is the larger, the rim is its level and the volume reaches down to
+// the other pass's floor: the second level lies below the rim. The points
+// counted lie more than kOutsideWallMm outside the wall grid's value at
+// their height in their theta bin (a flaring wall, grooves, a bowl's lip
+// stay out; the slipped rings of the tuning sweeps stay in) and, where the
+// bin has a flat top (container_lip.h), inside its cap (a container's
+// outer wall runs down at every height). rim_sectors: which of kRimSectors
+// equal sectors around the axis each height bin's points lie in (a ring
+// goes round, a protrusion's top does not).
+constexpr uint32_t kRimHistBins = 48;     // 1 mm each, from rim - kRimHistBelowMm
+constexpr double kRimHistBelowMm = 45.0;  // to rim + 3 mm
+constexpr uint32_t kRimSectors = 36;
+constexpr double kOutsideWallMm = 3.0;
 struct Occupancy {
   uint64_t points;        // stored points below the rim
   uint64_t inside;        // of those, inside the void by more than margin_mm
   double max_radius_mm;   // largest seen wall radius
   double max_section_mm2; // largest section (integration step), for the mouth
+  uint32_t rim_hist[kRimHistBins];
+  uint64_t rim_sectors[kRimHistBins];
 };
+
+// A second level in the surround (Occupancy::rim_hist): the most prominent
+// 3 mm of height centred 8 to 40 mm below the rim (its points less three
+// times the mean mm from 3 to 6 mm below or above it, the higher: a peak,
+// not the step where a wall ends) against the most prominent 3 mm centred
+// from 5 mm below the rim to 2 mm above it (less the same below it).
+struct SecondLevel {
+  double ratio;            // second / top; 0 without a top
+  double points;           // the second level's prominence, points
+  double sigma;            // points over the noise of its sides' count
+  double below_rim_mm;     // its height under the rim (centre of the 3 mm)
+  uint32_t sectors, top_sectors;  // sectors its points / the top's lie in
+};
+SecondLevel second_level(const Occupancy &o);
 Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
                     const Params &p, double margin_mm);
 

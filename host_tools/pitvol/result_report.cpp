@@ -129,6 +129,12 @@ std::string check_figures(const pv_result_t &r) {
                     "%.1f %% of the floor's points lie on a second floor above it (one scan: at most %.1f %%)",
                     100 * r.check_value, 100 * r.check_limit);
       break;
+    case PV_PIT_CHECK_DOUBLED_RIM:
+      std::snprintf(b, sizeof b,
+                    "a second level of the surround under the rim with %.0f %% of the points of the first "
+                    "(one scan: at most %.0f %%)",
+                    100 * r.check_value, 100 * r.check_limit);
+      break;
     default: std::snprintf(b, sizeof b, "no figure"); break;
   }
   return b;

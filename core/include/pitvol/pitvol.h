@@ -93,9 +93,14 @@ typedef enum pv_pit_check {
   PV_PIT_CHECK_DOUBLED_FLOOR = 8, /* value: the share of the floor's points a
                                      few mm above it; limit: the most a
                                      single scan shows */
-  PV_PIT_CHECK_TOO_SMALL = 9      /* value: the volume, cm3; limit: the
+  PV_PIT_CHECK_TOO_SMALL = 9,     /* value: the volume, cm3; limit: the
                                      smallest test hole (below the standards'
                                      smallest: a scan in cm or m read as mm) */
+  PV_PIT_CHECK_DOUBLED_RIM = 10   /* value: the points of the surround
+                                     (ground ring or lip) on a second level
+                                     8-40 mm under the rim over those at the
+                                     rim; limit: the most a single scan
+                                     shows */
 } pv_pit_check_t;
 /* "PV_PIT_CHECK_POINTS_INSIDE", ... */
 const char *pv_pit_check_name(uint32_t check);

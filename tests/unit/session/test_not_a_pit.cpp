@@ -72,6 +72,7 @@ void expect_refused(const std::vector<pv_point_t> &pts, const char *what,
     case PV_PIT_CHECK_OPENING_TILT:
     case PV_PIT_CHECK_DOUBLED_WALL:
     case PV_PIT_CHECK_DOUBLED_FLOOR:
+    case PV_PIT_CHECK_DOUBLED_RIM:
       if (!(o.r.check_value > o.r.check_limit)) {
         fail_msg("[%s] %s: %s figure %g not beyond %g", pv_method_name(g_method), what, pv_pit_check_name(o.r.failed_check),
                  o.r.check_value, o.r.check_limit);
@@ -252,6 +253,57 @@ void grooved_pit_measures(void **) {
   }
 }
 
+// A pit 760 mm across (wider than the default grids: the model is built
+// again on grids scaled to it, where the wall's and the floor's doubled-
+// scan checks do not run), 200 mm deep, with a ground ring out to 480 mm:
+// floor, wall and ground; copy_dz: the tracking slipped that far up after
+// the first third of the scan (0: no slip).
+std::vector<pv_point_t> wide_pit_with_ground(double copy_dz) {
+  Rng g{11};
+  std::vector<pv_point_t> v;
+  const auto add = [&](int n, double dz) {
+    for (int i = 0; i < n; ++i) {
+      const double u = g.uniform(), t = 2 * kPi * g.uniform();
+      double r, z;
+      if (u < 0.35) {
+        r = 380 * std::sqrt(g.uniform());
+        z = 0.1 * g.gauss();
+      } else if (u < 0.75) {
+        r = 380;
+        z = 200 * g.uniform();
+      } else {
+        r = std::sqrt(380.0 * 380.0 + (480.0 * 480.0 - 380.0 * 380.0) * g.uniform());
+        z = 200 + 0.1 * g.gauss();
+      }
+      v.push_back(P(r * std::cos(t), r * std::sin(t), z + dz));
+    }
+  };
+  add(100000, 0.0);
+  add(200000, copy_dz);
+  return v;
+}
+
+// The tracking slipped 20 mm up (issue 25 item 6): the model reads the
+// later, larger pass's ground as the rim and the first pass's floor as the
+// floor, 10 % more than the pit, and no other check sees it on these
+// grids. The first pass's ground lies 20 mm under the rim all round.
+void slipped_pass_with_ground_is_refused(void **) {
+  expect_refused(wide_pit_with_ground(20.0), "a pass slipped 20 mm up", PV_PIT_CHECK_DOUBLED_RIM);
+}
+
+// The same pit scanned once measures (its ground ring has one level).
+void wide_pit_with_ground_measures(void **) {
+  const Outcome o = measure(wide_pit_with_ground(0.0));
+  if (o.status != PV_OK) {
+    fail_msg("[%s] wide pit: %s %s (%g against %g)", pv_method_name(g_method), pv_status_name(o.status),
+             pv_pit_check_name(o.r.failed_check), o.r.check_value, o.r.check_limit);
+  }
+  const double exact = kPi * 380 * 380 * 200 / 1000.0;
+  if (std::fabs(o.r.volume_cm3 - exact) > 0.01 * exact) {
+    fail_msg("[%s] wide pit: %g cm3 against %g", pv_method_name(g_method), o.r.volume_cm3, exact);
+  }
+}
+
 }  // namespace
 
 // Each test under each method: cmocka's state is the method.
@@ -273,6 +325,8 @@ int main() {
       PV_EACH_METHOD(grooved_pit_measures),
       PV_EACH_METHOD(pit_in_centimetres_is_refused),
       PV_EACH_METHOD(one_litre_hole_measures),
+      PV_EACH_METHOD(slipped_pass_with_ground_is_refused),
+      PV_EACH_METHOD(wide_pit_with_ground_measures),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
