@@ -383,6 +383,7 @@ void grid_batch(void *c, const Point *pts, size_t count) {
 // On a sloping wall (a bowl) the surface crosses a bin over a range of radii
 // of |dr/dz| * dz: widen the band to it, with the slope from the bins above
 // and below, so the fit sees the whole crossing, not only its outer end.
+constexpr double kMaxThetaWidenMm = 6.0;
 void widen_bands_on_slopes(Workspace &ws, const Geo &g, const Params &p) {
   for (uint32_t z = 1; z + 1 < g.Z; ++z) {
     for (uint32_t t = 0; t < g.T; ++t) {
@@ -392,6 +393,22 @@ void widen_bands_on_slopes(Workspace &ws, const Geo &g, const Params &p) {
       if (a.n_all < 8 || c.n_all < 8 || b.n_all < 8) continue;
       const double slope = std::fabs(double(near_max(c)) - double(near_max(a))) / (2 * g.dz);
       b.band = float(p.band_mm + std::min(slope, 4.0) * g.dz);
+    }
+  }
+  if (p.coarse_bins) return;
+  // Along the angle likewise: an oval wall crosses a 2 deg bin over
+  // |dr/dtheta| x 2 deg (5 mm on a 1.2 x 0.84 m ellipse), and its points
+  // at the bin's inner end fell behind the band, counted as a second copy
+  // of the wall (elliptical pits refused DOUBLED_WALL).
+  for (uint32_t z = 0; z < g.Z; ++z) {
+    const size_t row = size_t(z) * g.T;
+    for (uint32_t t = 0; t < g.T; ++t) {
+      const WallBin &a = ws.wall[row + (t + g.T - 1) % g.T];
+      const WallBin &c = ws.wall[row + (t + 1) % g.T];
+      WallBin &b = ws.wall[row + t];
+      if (a.n_all < 8 || c.n_all < 8 || b.n_all < 8) continue;
+      const double per_bin = std::fabs(double(near_max(c)) - double(near_max(a))) / 2;
+      b.band += float(std::min(per_bin, kMaxThetaWidenMm));
     }
   }
 }
