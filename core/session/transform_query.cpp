@@ -65,7 +65,8 @@ pv_status_t query(pv_session *s, pv_transform_t *out) {
     out->rim_from_ground = 0u;  // the rim plane (no ground ring)
     out->rim_mm = opening.rim_mm;
   }
-  if (!(out->rim_mm > 0.0) || (s->cfg.method == PV_METHOD_SURFACE && !opening.found)) {
+  if (!(out->rim_mm > 0.0) ||
+      (s->cfg.method == PV_METHOD_SURFACE && !opening.found && s->cfg.surface_coarse_bins == 0)) {
     out->rim_mm = -1.0;
     return PV_ERR_NO_RIM;
   }
