@@ -113,4 +113,10 @@ measure 245
 # band and counted as a second copy: refused DOUBLED_WALL.
 measure 35 1300
 [ "$status" = PV_OK ] && within 0.3 || fail "1300/35 (elliptical wall): $status $check $volume cm3 against $exact"
-echo "envelope findings: 16 cases as expected"
+# A pit without surround with protrusions (seed 1302): a block's top
+# 15 mm under the rim stood 48 times over the rim's level outside the
+# wall, which a pit without surround leaves in one sector: refused
+# DOUBLED_RIM. The check asks for a surround.
+measure 63 1302
+[ "$status" = PV_OK ] && within 0.3 || fail "1302/63 (no surround, protrusion's top): $status $check $volume cm3 against $exact"
+echo "envelope findings: 17 cases as expected"
