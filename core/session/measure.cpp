@@ -190,18 +190,6 @@ LayerOutcome process_layer(pv_session *s, size_t n) {
   return o;
 }
 
-// The rim from the ground ring (the peak of the sample's heights), if the
-// scan has one.
-bool ground_rim(pv_session *s, const levelling::Transform &t, double *rim_mm) {
-  const uint32_t n = s->sample.size();
-  for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t.apply(s->sample_points[i]);
-  rim::Params rp;
-  rp.band_ratio = s->cfg.rim_band_ratio;
-  const rim::Ground g = rim::detect_ground(s->lv.a, n, rp, s->lv.v);
-  if (g.found) *rim_mm = g.z_mm;
-  return g.found;
-}
-
 // The most the pit's volume can be, mm3, from the levelled sample: the
 // cylinder around its points (99 % of them by radius from their centre,
 // 99 % by height). A scan in centimetres or metres stops here with
@@ -296,23 +284,12 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out) {
     out->tilt_deg = t.tilt_deg();
   }
   if (out->tilt_deg > 30.0 && out->tilt_deg < 150.0) out->warnings |= PV_WARN_LARGE_TILT;
-  // The rim: the rim plane (method surface without a ground ring), else
-  // the ground ring, else the top of the wall over the final layers.
-  // The ground's plane where the levelling found the ground but its peak
-  // is not found (a ground of 3 % of the points under strays rising 20 mm
-  // above it: the wall top read the strays, +6.1 % with PV_OK).
-  // Method surface measures below the opening: without one found from
-  // either start there is no lid (the floor plane's frame and the wall's
-  // top read a sparse rounded bowl 9 deg off, +28.5 % with PV_OK). Not on
-  // coarse bins (the MCU profile): its 2048-point sample and 64-point
-  // layers find no opening on 9 of the 77 corpus pits without surround
-  // that the default measures, and the floor's frame read them within
-  // 0.4 % (docs/targets.md).
-  if (s->cfg.method == PV_METHOD_SURFACE && !opening.found && s->cfg.surface_coarse_bins == 0)
-    return fail(PV_ERR_NO_RIM);
-  double rim_mm = opening.rim_mm;
-  const bool have_rim = opening.rim_mm > 0 || ground_rim(s, t, &rim_mm) ||
-                        (opening.ground_mm > 0 && (rim_mm = opening.ground_mm) > 0);
+  // The rim (level_surface.cpp, opening_rim()), else the top of the wall
+  // over the final layers.
+  if (opening_missing(s, opening)) return fail(PV_ERR_NO_RIM);
+  const Rim lid = opening_rim(s, t, opening);
+  double rim_mm = lid.mm;
+  const bool have_rim = lid.found;
   // The final layers serve the per-layer methods and the wall top; method
   // surface with a rim needs only how many points fall outside them.
   const bool layers_needed = s->cfg.method != PV_METHOD_SURFACE || !have_rim;

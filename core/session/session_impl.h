@@ -202,6 +202,18 @@ struct Opening {
   double ground_mm = -1.0;
 };
 Opening level_for_surface(pv_session *s, levelling::Transform *t);
+// Method surface measures below the opening: true where none was found
+// from either start (level_surface.cpp says where that is not refused).
+bool opening_missing(const pv_session *s, const Opening &o);
+// The rim in frame t short of the wall's top: the opening's plane (rim or
+// support plane), else the ground ring's peak in the sample's heights,
+// else the ground's plane. Every method (an empty Opening: the peak only).
+struct Rim {
+  bool found = false;
+  double mm = -1.0;
+  bool from_ground = false;
+};
+Rim opening_rim(pv_session *s, const levelling::Transform &t, const Opening &o);
 // The surface method's part of measure(): from the levelled stored points,
 // the rim and the bottom of the grid to the result (measure_surface.cpp).
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,

@@ -50,23 +50,11 @@ pv_status_t query(pv_session *s, pv_transform_t *out) {
     for (int c = 0; c < 3; ++c) out->rotation[3 * r + c] = t.R(r, c);
     out->translation_mm[r] = t.t(r);
   }
-  const uint32_t n = s->sample.size();
-  for (uint32_t i = 0; i < n; ++i) s->lv.a[i] = t.apply(s->sample_points[i]);
-  rim::Params rp;
-  rp.band_ratio = s->cfg.rim_band_ratio;
-  const rim::Ground g = rim::detect_ground(s->lv.a, n, rp, s->lv.v);
-  out->rim_from_ground = g.found ? 1u : 0u;
-  out->rim_mm = g.found ? g.z_mm : rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
-  if (!g.found && opening.ground_mm > 0.0) {  // the ground's plane (measure.cpp)
-    out->rim_from_ground = 1u;
-    out->rim_mm = opening.ground_mm;
-  }
-  if (opening.rim_mm > 0.0) {
-    out->rim_from_ground = 0u;  // the rim plane (no ground ring)
-    out->rim_mm = opening.rim_mm;
-  }
-  if (!(out->rim_mm > 0.0) ||
-      (s->cfg.method == PV_METHOD_SURFACE && !opening.found && s->cfg.surface_coarse_bins == 0)) {
+  // As measure(): the opening's rim, else the wall's top.
+  const Rim lid = opening_rim(s, t, opening);
+  out->rim_from_ground = lid.from_ground ? 1u : 0u;
+  out->rim_mm = lid.found ? lid.mm : rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
+  if (!(out->rim_mm > 0.0) || opening_missing(s, opening)) {
     out->rim_mm = -1.0;
     return PV_ERR_NO_RIM;
   }

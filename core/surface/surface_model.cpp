@@ -1461,10 +1461,7 @@ double side_mean(const uint32_t *h, int from, int to) {
   return n ? s / n : 0.0;
 }
 uint32_t sectors_of(const uint64_t *m, uint32_t i) {
-  const uint64_t u = m[i - 1] | m[i] | m[i + 1];
-  uint32_t n = 0;
-  for (uint64_t v = u; v; v &= v - 1) ++n;
-  return n;
+  return uint32_t(__builtin_popcountll(m[i - 1] | m[i] | m[i + 1]));
 }
 
 // Centres of the top's 3 mm (rim - 5 to rim + 2) and of a second level's
