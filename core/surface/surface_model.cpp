@@ -700,7 +700,26 @@ void reject_unconnected(Workspace &ws, const Geo &g, const Params &p, Model *m) 
 // round, not on two opposite sides (docs/reliability.md, "Doubled scans").
 constexpr double kThickBandMm = 0.3;
 
-void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool coarse, Model *m) {
+// A floor cell counts for the floor's ghost share (Model::
+// floor_level_points) where the floor rises at most this many bands from
+// the cell on one side to the cell on the other, along x and along y. A
+// slope s raises the floor by 2 s cells across those two and by up to
+// sqrt(2) s cells across the cell's own diagonal: past this rise the
+// cell's own surface reaches above its band, into the ghost window, as on
+// a rounded bowl's bottom. A cell next to one that is not floor (the
+// wall's foot) does not count.
+constexpr double kLevelRiseBands = 1.41421356237;
+
+bool level_cell(const Workspace &ws, const Geo &g, uint32_t x, uint32_t y, float max_rise) {
+  if (x == 0 || y == 0 || x + 1 >= g.C || y + 1 >= g.C) return false;
+  const FloorCell *const c = ws.floor + size_t(y) * g.C + x;
+  const FloorCell &w = c[-1], &e = c[1], &s = c[-ptrdiff_t(g.C)], &n = c[g.C];
+  if (w.state != kFloor || e.state != kFloor || s.state != kFloor || n.state != kFloor) return false;
+  return std::fabs(e.value - w.value) <= max_rise && std::fabs(n.value - s.value) <= max_rise;
+}
+
+void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool coarse, double band_mm,
+                  Model *m) {
   uint32_t dense[AngleBins::kMaxBins] = {}, ghost[AngleBins::kMaxBins] = {},
            thick[AngleBins::kMaxBins] = {};
   for (uint32_t z = 0; z < g.Z; ++z) {
@@ -743,7 +762,8 @@ void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool co
   };
   const double behind = contrast(ghost), spread = contrast(thick);
   m->ghost_contrast = std::max(behind, spread);
-  box.each(g.C, [&](size_t i, uint32_t, uint32_t) {
+  const auto max_rise = float(kLevelRiseBands * band_mm);
+  box.each(g.C, [&](size_t i, uint32_t x, uint32_t y) {
     const FloorCell &f = ws.floor[i];
     if (f.state != kFloor) return;
     m->floor_points += f.n;
@@ -751,6 +771,10 @@ void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool co
     m->floor_far_points += f.n_far;
     ++m->floor_cells;
     m->floor_far_cells += f.n_far >= 2;
+    if (level_cell(ws, g, x, y, max_rise)) {
+      m->floor_level_points += f.n;
+      m->floor_level_ghost_points += f.n_ghost;
+    }
   });
 }
 
@@ -1124,7 +1148,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   if (m->seen_bins - m->rejected_bins < g.T) return Status::NoWall;
   bridge(ws, g, m);
   drop_floor_at_wall(ws, g, *m, p, box);
-  count_ghosts(ws, g, box, p.coarse_bins, m);
+  count_ghosts(ws, g, box, p.coarse_bins, p.band_mm, m);
 
   return Status::Ok;
 }

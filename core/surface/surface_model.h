@@ -202,6 +202,10 @@ struct Model {
   // (floor_points) and in the ghost_mm above it (floor_ghost_points).
   double ghost_contrast;
   uint64_t floor_points, floor_ghost_points;
+  // The same over the level cells only (surface_model.cpp, level_cell()):
+  // a sloping bottom (a rounded bowl's) puts its own surface in the ghost
+  // window of its steep cells; a second floor lies above the level ones too.
+  uint64_t floor_level_points, floor_level_ghost_points;
   // Further above it, up to Params::slip_mm: a second pass that slipped
   // along the axis doubles the floor 10-40 mm up (floor_far_points).
   uint64_t floor_far_points;

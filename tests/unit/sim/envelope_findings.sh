@@ -119,4 +119,11 @@ measure 35 1300
 # DOUBLED_RIM. The check asks for a surround.
 measure 63 1302
 [ "$status" = PV_OK ] && within 0.3 || fail "1302/63 (no surround, protrusion's top): $status $check $volume cm3 against $exact"
-echo "envelope findings: 17 cases as expected"
+# A rounded bowl (tuning seed 1300, ground ring, walked over 178 deg) has
+# no level floor: the steep cells of its bottom put their own surface in
+# the floor's ghost window, 3.15 % of the floor's points, and it was
+# refused DOUBLED_FLOOR (limit 3 %). Counted over the level cells only
+# (0.26 %): -0.87 % +/- 1.56 %.
+measure 130 1300
+[ "$status" = PV_OK ] && inside || fail "1300/130 (rounded bowl's sloping bottom): $status $check $volume +/- $interval cm3 against $exact"
+echo "envelope findings: 18 cases as expected"
