@@ -6,7 +6,8 @@
 // levelling): a bowl or an uneven floor tilts it by a degree or more
 // (measured: bowls read +4.7 and +6.7 %, a bowl without ground +1.9 %), and
 // where no opening is found from it (a rounded bowl's floor fit can be 40
-// deg off), the scanner's own axis is the second start.
+// deg off) or the one found faces sideways (kMinSidewaysTiltDeg), the
+// scanner's own axis is the second start.
 #include <algorithm>
 #include <cmath>
 
@@ -26,6 +27,17 @@ namespace {
 // a rounded bowl 25 deg off a 35 deg tilted scan (pitvol-sim sweep --seed
 // 1300 --index 134).
 constexpr double kSupportMaxTiltDeg = 30.0;
+
+// An opening found from the floor-plane start this far or further from
+// the scanner's axis, both ways (60 to 120 deg), faces sideways: a handheld
+// scanner looks down into the pit (sweeps: 0-59 deg; a frame upside down
+// reads near 180). It is the floor fit's error carried on: a rounded bowl's
+// or an arc scan's floor fit 90-111 deg off, the rim plane or support plane
+// within 30 deg of that taken for the opening, and the scans refused with
+// PV_PIT_CHECK_NARROW_MOUTH (a section through the wall read as the rim:
+// tuning seed 1300 #067, check seed 1301 #102 and #271, 66-112 deg off
+// 16-22 deg scans). Those are levelled from the scanner's axis instead.
+constexpr double kMinSidewaysTiltDeg = 60.0;
 
 // Rotation taking unit vector n onto +Z (Rodrigues), applied after t.
 void rotate_onto_z(const Eigen::Vector3d &n, levelling::Transform *t) {
@@ -236,22 +248,38 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, Opening *o) {
 
 Opening level_for_surface(pv_session *s, levelling::Transform *t) {
   Opening o;
-  if (level_on_opening(s, t, &o)) {
+  levelling::Transform from_floor = *t;
+  const bool floor_found = level_on_opening(s, &from_floor, &o);
+  const auto sideways = [](const levelling::Transform &f) {
+    return f.tilt_deg() > kMinSidewaysTiltDeg && f.tilt_deg() < 180.0 - kMinSidewaysTiltDeg;
+  };
+  if (floor_found && !sideways(from_floor)) {
+    *t = from_floor;
     o.found = true;
     return o;
   }
   // The floor-plane frame can be far from level where the floor is not
   // flat (a rounded bowl: 20-40 deg). A handheld scan is held roughly
-  // upright, so the scanner's own axis (the same way up as the floor fit)
-  // is the second start.
+  // upright, so the scanner's own axis is the second start: the same way up
+  // as the floor fit, or, where the opening found from that fit faced
+  // sideways (no way up), the scanner's +Z up, as the opening's direction
+  // check asks unless it allows frames upside down (max_opening_tilt_deg).
   levelling::Transform upright = *t;
   const Eigen::Vector3d scanner_z = t->R.col(2);
-  rotate_onto_z(scanner_z.z() >= 0 ? scanner_z : Eigen::Vector3d(-scanner_z), &upright);
-  if (!level_on_opening(s, &upright, &o)) return Opening{};
-  bottom_to_zero(bottom_mm(s, upright), &upright, &o);
+  const bool scanner_up = floor_found && s->cfg.max_opening_tilt_deg <= 90.0f;
+  rotate_onto_z((scanner_up || scanner_z.z() >= 0) ? scanner_z : Eigen::Vector3d(-scanner_z), &upright);
+  Opening from_upright;
+  if (!level_on_opening(s, &upright, &from_upright) || (floor_found && sideways(upright))) {
+    if (!floor_found) return Opening{};
+    // Nothing better: the sideways frame, for the checks to refuse.
+    *t = from_floor;
+    o.found = true;
+    return o;
+  }
+  bottom_to_zero(bottom_mm(s, upright), &upright, &from_upright);
   *t = upright;
-  o.found = true;
-  return o;
+  from_upright.found = true;
+  return from_upright;
 }
 
 // Without an opening the floor plane's frame and the wall's top read a

@@ -126,4 +126,11 @@ measure 63 1302
 # (0.26 %): -0.87 % +/- 1.56 %.
 measure 130 1300
 [ "$status" = PV_OK ] && inside || fail "1300/130 (rounded bowl's sloping bottom): $status $check $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 18 cases as expected"
+# A cylinder in a container scanned over a 200 deg arc, 16 deg off: its
+# floor fit 105 deg off, the rim plane found near that frame faced
+# sideways, and a section through the wall, taken for the rim, was 0.18 of
+# the widest: refused NARROW_MOUTH. Levelled from the scanner's axis
+# instead: +0.34 %.
+measure 67 1300
+[ "$status" = PV_OK ] && within 0.5 || fail "1300/67 (opening found sideways): $status $check $volume cm3 against $exact"
+echo "envelope findings: 19 cases as expected"
