@@ -12,6 +12,19 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr float kNone = -1.0e30f;
 constexpr uint32_t kMinSectors = 24;
+// A plane through fewer sectors, kept apart (RimPlane::partial) for the
+// caller to use only where no other opening is found: a deep pit scanned
+// from one side shows the top of its near wall in half the sectors or less
+// (seed 1 #085: the ground ring at one height in 19 of 36 sectors, the
+// other sectors' tops 10-90 mm down the wall), refused NO_RIM.
+constexpr uint32_t kMinPartialSectors = 18;
+// A plane through this many sectors may correct the start frame by up to
+// kMaxSteepTiltDeg: a rounded bowl has no flat floor, and its floor-plane
+// fit lay 33-49 deg off scans tilted 49-58 deg (seeds 1301 #107, #149 and
+// 1302 #164, each refused NO_RIM with 28-33 sectors on one plane within
+// 0.8 mm RMS).
+constexpr uint32_t kSteepSectors = 28;
+constexpr double kMaxSteepTiltDeg = 60.0;
 constexpr double kOnPlaneMm = 2.0;
 constexpr double kMaxRmsMm = 1.5;
 // The most the rim plane may correct the floor-plane levelling: a bowl
@@ -147,7 +160,7 @@ RimPlane fit_rim_plane(const SectorTops &t) {
       r += q * double(t.z[s][k]);
       ++n;
     }
-    if (n < kMinSectors) return rp;
+    if (n < kMinPartialSectors) return rp;
     const Eigen::Vector3d sol = A.ldlt().solve(r);
     a = sol(0);
     b = sol(1);
@@ -167,11 +180,18 @@ RimPlane fit_rim_plane(const SectorTops &t) {
     rp.sectors = kept;
     rp.rms_mm = kept ? std::sqrt(ss / kept) : 0;
   }
-  if (rp.sectors < kMinSectors || rp.rms_mm > kMaxRmsMm) return rp;
+  if (rp.sectors < kMinPartialSectors || rp.rms_mm > kMaxRmsMm) return rp;
   Eigen::Vector3d nrm(-b, -c, 1.0);
   nrm.normalize();
-  if (nrm.z() < std::cos(kMaxTiltDeg * kPi / 180.0)) return rp;
-  rp.found = true;
+  const bool level = nrm.z() >= std::cos(kMaxTiltDeg * kPi / 180.0);
+  if (rp.sectors < kMinSectors) {
+    rp.partial = level;
+  } else if (level) {
+    rp.found = true;
+  } else {
+    rp.found = rp.sectors >= kSteepSectors && nrm.z() >= std::cos(kMaxSteepTiltDeg * kPi / 180.0);
+    rp.steep = rp.found;
+  }
   rp.normal = nrm;
   rp.d = nrm.z() * a;  // the plane passes through (0, 0, a)
   return rp;
