@@ -81,6 +81,7 @@ extern "C" const char *pv_pit_check_name(uint32_t check) {
     case PV_PIT_CHECK_DOUBLED_FLOOR: return "PV_PIT_CHECK_DOUBLED_FLOOR";
     case PV_PIT_CHECK_TOO_SMALL: return "PV_PIT_CHECK_TOO_SMALL";
     case PV_PIT_CHECK_DOUBLED_RIM: return "PV_PIT_CHECK_DOUBLED_RIM";
+    case PV_PIT_CHECK_THIN_TOP: return "PV_PIT_CHECK_THIN_TOP";
     default: return "PV_PIT_CHECK_UNKNOWN";
   }
 }
@@ -125,6 +126,10 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
              "apart in height: the scan holds the pit twice, registered apart "
              "(the scanner lost its tracking during the scan); scan the pit "
              "again in one steady pass";
+    case PV_PIT_CHECK_THIN_TOP:
+      return "the top of the wall was seen by one pass only, the wall below it "
+             "by two: the passes lie apart in height (the scanner lost its "
+             "tracking during the scan); scan the pit again in one steady pass";
     default: return "unknown check";
   }
 }

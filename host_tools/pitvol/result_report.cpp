@@ -135,6 +135,12 @@ std::string check_figures(const pv_result_t &r) {
                     "(one scan: at most %.0f %%)",
                     100 * r.check_value, 100 * r.check_limit);
       break;
+    case PV_PIT_CHECK_THIN_TOP:
+      std::snprintf(b, sizeof b,
+                    "the wall's top holds %.0f %% of the points per mm of the wall below it (one scan: at "
+                    "least %.0f %%)",
+                    100 * r.check_value, 100 * r.check_limit);
+      break;
     default: std::snprintf(b, sizeof b, "no figure"); break;
   }
   return b;

@@ -96,11 +96,17 @@ typedef enum pv_pit_check {
   PV_PIT_CHECK_TOO_SMALL = 9,     /* value: the volume, cm3; limit: the
                                      smallest test hole (below the standards'
                                      smallest: a scan in cm or m read as mm) */
-  PV_PIT_CHECK_DOUBLED_RIM = 10   /* value: the points of the surround
+  PV_PIT_CHECK_DOUBLED_RIM = 10,  /* value: the points of the surround
                                      (ground ring or lip) on a second level
                                      8-40 mm under the rim over those at the
                                      rim; limit: the most a single scan
                                      shows */
+  PV_PIT_CHECK_THIN_TOP = 11      /* value: the wall's points per mm of
+                                     height from a step 6-42 mm under the
+                                     rim up to it, over those in the 20 mm
+                                     below the step (the top seen by one
+                                     pass of two slipped apart in height);
+                                     limit: the least a single scan shows */
 } pv_pit_check_t;
 /* "PV_PIT_CHECK_POINTS_INSIDE", ... */
 const char *pv_pit_check_name(uint32_t check);
