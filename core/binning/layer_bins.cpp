@@ -1,23 +1,53 @@
 #include "binning/layer_bins.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "common/point_hash.h"
 
 namespace pv::binning {
 
-size_t LayerBins::bytes_needed(uint32_t layers, uint32_t capacity, bool ranks) {
+namespace {
+
+// The index's order: the points' bits, x then y then z.
+struct Bits {
+  uint32_t w[3];
+};
+inline Bits bits_of(const P3 &p) {
+  Bits b;
+  std::memcpy(b.w, &p, sizeof b.w);
+  return b;
+}
+inline bool bits_less(const P3 &a, const P3 &b) {
+  const Bits x = bits_of(a), y = bits_of(b);
+  if (x.w[0] != y.w[0]) return x.w[0] < y.w[0];
+  if (x.w[1] != y.w[1]) return x.w[1] < y.w[1];
+  return x.w[2] < y.w[2];
+}
+inline bool same_bits(const P3 &a, const P3 &b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+struct TailEntry {  // a tail point and its rank, in the merge buffer
+  P3 p;
+  uint8_t rank;
+};
+
+}  // namespace
+
+size_t LayerBins::bytes_needed(uint32_t layers, uint32_t capacity, bool ranks, bool index) {
   return size_t(layers) * capacity * sizeof(P3) + size_t(layers) * sizeof(uint32_t) +
-         size_t(layers) * sizeof(uint8_t) + (ranks ? size_t(layers) * capacity : 0);
+         (index ? size_t(layers) * sizeof(uint32_t) : 0) + size_t(layers) * sizeof(uint8_t) +
+         (ranks ? size_t(layers) * capacity : 0);
 }
 
 void LayerBins::init(void *memory, uint32_t layers, uint32_t capacity, bool ranks,
-                     uint32_t floor_layers) {
+                     uint32_t floor_layers, bool index) {
   auto *bytes = static_cast<unsigned char *>(memory);
   slots_ = reinterpret_cast<P3 *>(bytes);
   bytes += size_t(layers) * capacity * sizeof(P3);
   counts_ = reinterpret_cast<uint32_t *>(bytes);
   bytes += size_t(layers) * sizeof(uint32_t);
+  has_index_ = index;  // sorted(): the next layers words
+  bytes += index ? size_t(layers) * sizeof(uint32_t) : 0;
   levels_ = bytes;
   bytes += size_t(layers) * sizeof(uint8_t);
   ranks_ = ranks ? bytes : nullptr;
@@ -33,6 +63,67 @@ void LayerBins::clear() {
   stored_ = 0;
   thinned_ = 0;
   floor_ = 0;
+  indexed_ = false;
+}
+
+bool LayerBins::start_index() {
+  if (!has_index_) return false;
+  if (indexed_) return true;
+  for (uint32_t j = 0; j < layers_; ++j) sort_bin(j);
+  indexed_ = true;
+  return true;
+}
+
+void LayerBins::sort_bin(uint32_t j) {
+  P3 *bin = slots_ + size_t(j) * capacity_;
+  const uint32_t n = counts_[j];
+  std::sort(bin, bin + n, bits_less);
+  if (ranks_ != nullptr) {
+    uint8_t *rk = ranks_ + size_t(j) * capacity_;
+    for (uint32_t i = 0; i < n; ++i) rk[i] = rank(point_hash(bin[i]));
+  }
+  sorted()[j] = n;
+}
+
+// The tail sorted on the stack, then merged into the prefix from the back
+// (each point moves once; equal bits keep the prefix's first).
+void LayerBins::merge_tail(uint32_t j) {
+  P3 *bin = slots_ + size_t(j) * capacity_;
+  uint8_t *rk = ranks_ != nullptr ? ranks_ + size_t(j) * capacity_ : nullptr;
+  const uint32_t n = sorted()[j], m = counts_[j] - n;  // m <= tail_max() + 1
+  TailEntry buf[kMaxTail + 1];
+  for (uint32_t k = 0; k < m; ++k) buf[k] = TailEntry{bin[n + k], rk != nullptr ? rk[n + k] : uint8_t(0)};
+  std::sort(buf, buf + m, [](const TailEntry &a, const TailEntry &b) { return bits_less(a.p, b.p); });
+  int64_t i = int64_t(n) - 1, k = int64_t(m) - 1, w = int64_t(n + m) - 1;
+  while (k >= 0) {
+    if (i >= 0 && bits_less(buf[k].p, bin[i])) {
+      bin[w] = bin[i];
+      if (rk != nullptr) rk[w] = rk[i];
+      --i;
+    } else {
+      bin[w] = buf[k].p;
+      if (rk != nullptr) rk[w] = buf[k].rank;
+      --k;
+    }
+    --w;
+  }
+  sorted()[j] = counts_[j];
+}
+
+bool LayerBins::holds(uint32_t j, const P3 &p) const {
+  const P3 *bin = slots_ + size_t(j) * capacity_;
+  const uint32_t n = counts_[j];
+  uint32_t from = 0;
+  if (indexed_) {
+    const P3 *end = bin + sorted()[j];
+    const P3 *at = std::lower_bound(bin, end, p, bits_less);
+    if (at != end && same_bits(*at, p)) return true;
+    from = sorted()[j];
+  }
+  for (uint32_t i = from; i < n; ++i) {
+    if (same_bits(bin[i], p)) return true;
+  }
+  return false;
 }
 
 // A full bin: halve it (raise its level) until the point is rejected or fits.
@@ -47,6 +138,7 @@ bool LayerBins::insert_full(uint32_t j, const P3 &p, uint64_t hash) {
       slots_[slot] = p;
       if (ranks_ != nullptr) ranks_[slot] = rank(hash);
       ++stored_;
+      if (indexed_ && counts_[j] - sorted()[j] > tail_max()) merge_tail(j);
       return true;
     }
     raise_level(j);  // full: halve the bin, then try again
@@ -61,6 +153,7 @@ void LayerBins::raise_level(uint32_t j) {
     stored_ -= counts_[j];
     thinned_ += counts_[j];
     counts_[j] = 0;
+    if (has_index_) sorted()[j] = 0;
   }
   if (levels_[j] == floor_ + 1) raise_floor();
 }
@@ -71,10 +164,13 @@ void LayerBins::thin_to(uint32_t j, uint8_t level) {
   levels_[j] = level;
   P3 *bin = slots_ + size_t(j) * capacity_;
   const uint32_t n = counts_[j];
-  uint32_t kept = 0;
+  // The index on: the order is kept, the prefix is what stays of it.
+  const uint32_t prefix = indexed_ ? sorted()[j] : 0;
+  uint32_t kept = 0, kept_in_prefix = 0;
   if (ranks_ != nullptr) {
     uint8_t *rk = ranks_ + size_t(j) * capacity_;
     for (uint32_t i = 0; i < n; ++i) {  // branch-free: about half are kept
+      if (i == prefix) kept_in_prefix = kept;
       const uint8_t r = rk[i];
       bin[kept] = bin[i];
       rk[kept] = r;
@@ -82,9 +178,12 @@ void LayerBins::thin_to(uint32_t j, uint8_t level) {
     }
   } else {
     for (uint32_t i = 0; i < n; ++i) {
+      if (i == prefix) kept_in_prefix = kept;
       if (passes(point_hash(bin[i]), level)) bin[kept++] = bin[i];
     }
   }
+  if (prefix >= n) kept_in_prefix = kept;
+  if (indexed_) sorted()[j] = kept_in_prefix;
   const uint32_t dropped = counts_[j] - kept;
   stored_ -= dropped;
   thinned_ += dropped;

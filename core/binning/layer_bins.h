@@ -24,6 +24,16 @@
 // (a configuration that stores few points, where every byte of the block
 // counts: the MCU's) the raise hashes again. Both keep the same points in
 // the same order.
+//
+// An index of what the bins hold (index = true at init; start_index() turns
+// it on): a scan sent again as a whole, beyond the duplicate filter's
+// window, must not be stored twice (the session's repeat mode,
+// session/session.cpp). Each bin is sorted by the points' bits once, then
+// keeps a sorted prefix and an unsorted tail of the points stored since;
+// holds() is a binary search and a short scan. A tail longer than
+// tail_max() is sorted on the stack and merged into the prefix (nothing is
+// allocated: std::inplace_merge would). Thinning keeps the order, so the
+// prefix stays sorted. Off, nothing of it runs.
 #ifndef PV_BINNING_LAYER_BINS_H
 #define PV_BINNING_LAYER_BINS_H
 
@@ -37,11 +47,13 @@ namespace pv::binning {
 class LayerBins {
  public:
   // ranks: keep each slot's rank (one byte more per slot, see above).
-  static size_t bytes_needed(uint32_t layers, uint32_t capacity, bool ranks = false);
-  // memory: bytes_needed() bytes (the same ranks), aligned for P3 and uint32_t.
-  // floor_layers: 0 for no floor (see above).
+  // index: room for the index of what the bins hold (see above).
+  static size_t bytes_needed(uint32_t layers, uint32_t capacity, bool ranks = false,
+                             bool index = false);
+  // memory: bytes_needed() bytes (the same ranks and index), aligned for P3
+  // and uint32_t. floor_layers: 0 for no floor (see above).
   void init(void *memory, uint32_t layers, uint32_t capacity, bool ranks = false,
-            uint32_t floor_layers = 0);
+            uint32_t floor_layers = 0, bool index = false);
   void clear();
 
   // Stores p in bin j (j < layers()). Returns false if the bin's level
@@ -59,10 +71,28 @@ class LayerBins {
       slots_[slot] = p;
       if (ranks_ != nullptr) ranks_[slot] = rank(hash);
       ++stored_;
+      if (indexed_ && c - sorted()[j] > tail_max()) merge_tail(j);
       return true;
     }
     return insert_full(j, p, hash);
   }
+
+  // Sorts every bin and keeps them so from now on (until clear()). False
+  // without the index's memory (init's index).
+  bool start_index();
+  bool indexed() const { return indexed_; }
+  // A tail a 64th of a bin, 32 to kMaxTail points: a layer bin of 1024
+  // merges every 32 new points, the floor store of 65,536 every 256 (256
+  // moves a point, where nearly every point is a copy and few are new);
+  // holds() scans at most that many. The merge sorts the tail on the stack.
+  static constexpr uint32_t kMaxTail = 256;
+  uint32_t tail_max() const {
+    const uint32_t t = capacity_ / 64;
+    return t < 32 ? 32 : t > kMaxTail ? kMaxTail : t;
+  }
+  // Bin j holds a point with p's bits (the index on: a binary search and
+  // the tail; off: every point of the bin).
+  bool holds(uint32_t j, const P3 &p) const;
 
   uint32_t layers() const { return layers_; }
   uint32_t capacity() const { return capacity_; }
@@ -90,6 +120,8 @@ class LayerBins {
   void raise_level(uint32_t j);
   void thin_to(uint32_t j, uint8_t level);
   void raise_floor();
+  void sort_bin(uint32_t j);
+  void merge_tail(uint32_t j);
   P3 *slots_ = nullptr;
   uint32_t *counts_ = nullptr;
   uint8_t *levels_ = nullptr;
@@ -100,6 +132,11 @@ class LayerBins {
   uint64_t thinned_ = 0;
   uint32_t floor_layers_ = 0;
   uint8_t floor_ = 0;
+  bool has_index_ = false;  // init's index: sorted() is carved
+  bool indexed_ = false;
+  // Per bin, the sorted prefix's length: carved after the counts (no
+  // pointer of its own: the MCU profile's session header is at its limit).
+  uint32_t *sorted() const { return counts_ + layers_; }
 };
 
 }  // namespace pv::binning

@@ -25,13 +25,36 @@ void set_provisional(pv_session *s, const levelling::Transform &t) {
   s->provisional = t;
   const double row[3] = {t.R(2, 0), t.R(2, 1), t.R(2, 2)};
   s->provisional_map = gridding::layer_map(s->grid, row, t.t.z());
+  if (s->past_maps != nullptr && s->past_map_count < pv_session::kPastMaps) {
+    s->past_maps[s->past_map_count++] = s->provisional_map;
+  }
 }
 
 // How far a refined provisional frame may move the heights of the points
 // binned so far and still count their places against the grid (refine()).
 constexpr double kFrameMovedMm = 10.0;
 
+// Repeat mode: the point's copy came before it, under one of the frames
+// binned with since (which one, the stream does not say). It was stored in
+// that frame's bin and is held there, or that bin's level turned it away
+// (levels only rise), or it fell outside the grid: each ends it. A new
+// point is taken for a copy only where an earlier frame's bin has thinned
+// harder than its own (frames differ by fractions of a layer once the
+// first refinements are past) or put it outside the grid.
+bool binned_before(const pv_session *s, const P3 &p, uint64_t hash) {
+  for (uint32_t k = 0; k < s->past_map_count; ++k) {
+    const int64_t j = s->past_maps[k].layer_of(p);
+    if (j < 0) return true;
+    const bool floor = uint32_t(j) < s->floor_layers;
+    const binning::LayerBins &b = floor ? s->floor_bins : s->bins;
+    const uint32_t bin = floor ? 0 : uint32_t(j);
+    if (!binning::LayerBins::passes(hash, b.level(bin)) || b.holds(bin, p)) return true;
+  }
+  return false;
+}
+
 void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
+  if (s->repeat_mode && binned_before(s, p, hash)) return;
   const int64_t j = s->provisional_map.layer_of(p);
   if (j < 0) {
     ++s->points_out_of_range;
@@ -43,6 +66,18 @@ void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
     return;
   }
   s->bins.insert(uint32_t(j), p, hash);
+}
+
+// The stream repeats itself beyond the duplicate filter's window (a point
+// the levelling sample holds came again: a scan sent twice over, not
+// interleaved): from now on every point is looked up in the bins it could
+// have gone to before it is stored (binned_before()). Sent whole five times
+// over, a bowl kept a fifth of its distinct points per bin and read -0.4 %
+// from its single copy; containers up to 0.5 % and NO_RIM (docs/reliability.md).
+void start_repeat_mode(pv_session *s) {
+  if (!s->bins.start_index()) return;  // no index (no duplicate filter): no repeat mode
+  if (s->floor_layers > 0) s->floor_bins.start_index();
+  s->repeat_mode = true;
 }
 
 // Re-estimates the provisional plane from the sample. Later points are
@@ -155,6 +190,11 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
                              ? cv.take<uint64_t>(levelling::HashSample::set_slots_for(k))
                              : nullptr;
   o->sample.init(sample_mem, k, block != nullptr ? sample_set : nullptr);
+  // And the frames the bins were filled with, for a scan sent again whole
+  // (start_repeat_mode()).
+  gridding::LayerMap *maps =
+      c.duplicate_filter != 0 ? cv.take<gridding::LayerMap>(pv_session::kPastMaps) : nullptr;
+  o->past_maps = block != nullptr ? maps : nullptr;
   if (c.duplicate_filter != 0) {
     void *dup_mem = cv.take<uint64_t>(binning::DuplicateFilter::bytes_needed() / sizeof(uint64_t));
     if (block != nullptr) o->duplicates.init(dup_mem);
@@ -166,10 +206,13 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   const size_t slots = size_t(layers) * c.points_per_layer +
                        (c.method == PV_METHOD_SURFACE ? c.surface_floor_points : 0);
   const bool ranks = slots >= kRanksMinPoints;
-  void *bins_mem =
-      cv.take<unsigned char>(binning::LayerBins::bytes_needed(layers, c.points_per_layer, ranks));
+  // The index of what the bins hold, for a scan sent again (repeat mode,
+  // bin_point()): with the duplicate filter, as its wider reach.
+  const bool index = c.duplicate_filter != 0;
+  void *bins_mem = cv.take<unsigned char>(
+      binning::LayerBins::bytes_needed(layers, c.points_per_layer, ranks, index));
   if (block != nullptr) o->bins.init(bins_mem, layers, c.points_per_layer, ranks,
-                                      ranks ? kThinFloorLayers : 0);
+                                      ranks ? kThinFloorLayers : 0, index);
   o->layer_start = cv.take<uint32_t>(layers + 1);
   o->layer_weight = cv.take<double>(layers);
   o->seq_z = cv.take<double>(layers);
@@ -179,9 +222,9 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   o->seq_scratch = cv.take<double>(o->seq_scratch_cap);
   o->layer_info = cv.take<pv_layer_info_t>(layers);
   if (c.method == PV_METHOD_SURFACE) {
-    void *floor_mem =
-        cv.take<unsigned char>(binning::LayerBins::bytes_needed(1, c.surface_floor_points, ranks));
-    if (block != nullptr) o->floor_bins.init(floor_mem, 1, c.surface_floor_points, ranks);
+    void *floor_mem = cv.take<unsigned char>(
+        binning::LayerBins::bytes_needed(1, c.surface_floor_points, ranks, index));
+    if (block != nullptr) o->floor_bins.init(floor_mem, 1, c.surface_floor_points, ranks, 0, index);
   }
 
   // Scratch: the levelling's, the warm-up buffer (empty once a transform
@@ -222,13 +265,13 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   if (c.method == PV_METHOD_SURFACE) {
     // One byte per stored point: its theta bin, computed by the first pass
     // over the points and read by the others (the angle is a pass's costliest
-  // part). A speed-up for
-    // configurations that store many points (the default: 1.4 MB, 4.5 % of
-    // its block); a small one (the MCU profile, whose every byte counts)
-    // bins each point again in each pass, unless the scratch has room.
+    // part). A speed-up for configurations that store many points (the
+    // default: 1.4 MB, 4.5 % of its block); a small one (the MCU profile,
+    // whose every byte counts) bins each point again in each pass, unless
+    // the scratch has room.
     const size_t cache = size_t(layers) * c.points_per_layer + c.surface_floor_points;
     if (cv.used() + cache + 64 <= scratch_end || cache >= kThetaCacheMinPoints) {
-      o->theta_cache_cap = cache;
+      o->theta_cache_cap = uint32_t(cache);  // < 2^27: the slots are validated
       o->theta_cache = cv.take<uint8_t>(cache);
     }
   }
@@ -250,6 +293,8 @@ void reset_counters(pv_session *s) {
   if (s->cfg.duplicate_filter != 0) s->duplicates.clear();
   s->sample.clear();
   session::set_provisional(s, levelling::Transform{});
+  s->past_map_count = 0;
+  s->repeat_mode = false;
   s->have_transform = false;
   s->have_fit = false;
   s->next_refine_at = 0;
@@ -326,6 +371,9 @@ extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points
       const P3 p{q.x_mm, q.y_mm, q.z_mm};
       const uint64_t h = point_hash(p);
       s->sample.offer(p, h);
+      if (s->sample.repeats() > 0 && !s->repeat_mode && s->have_transform) {
+        session::start_repeat_mode(s);
+      }
       if (!s->have_transform) {
         s->warmup[s->warmup_count++] = p;
         if (s->warmup_count == s->cfg.warmup_points) session::establish_transform(s);

@@ -115,6 +115,8 @@ struct pv_session {
   // (The flags sit together: padding between fields is block bytes.)
   bool have_transform;
   bool have_fit;
+  bool repeat_mode;  // session.cpp, start_repeat_mode()
+  uint8_t past_map_count;  // of past_maps below
 
   uint64_t points_in;
   uint64_t points_invalid;
@@ -136,6 +138,12 @@ struct pv_session {
   pv::levelling::Scratch lv;
   pv::levelling::Transform provisional;
   pv::gridding::LayerMap provisional_map;  // provisional, folded for push()
+  // Every frame points were binned with, in order (repeat mode looks a
+  // point up under each), carved with the duplicate filter (else null):
+  // refinements come at 4x the points each, so 16 frames last past 10^13
+  // points; later ones are not recorded.
+  static constexpr uint32_t kPastMaps = 16;
+  pv::gridding::LayerMap *past_maps;
   uint64_t next_refine_at;
 
   // Points that arrived before the first plane.
@@ -167,9 +175,9 @@ struct pv_session {
   size_t seq_scratch_cap;
   pv_layer_info_t *layer_info;  // layers
   uint32_t layer_info_count;
+  uint32_t theta_cache_cap;  // entries (stored points: bins and floor store)
   pv::surface::Workspace surf;  // method surface only (else empty)
   uint8_t *theta_cache;   // method surface: each stored point's theta bin between passes
-  size_t theta_cache_cap; // entries (stored points: bins and floor store)
 };
 
 namespace pv::session {

@@ -157,6 +157,47 @@ void clear_forgets_everything(void **) {
   assert_int_equal(bins.stored(), 0);
 }
 
+// The index (a scan sent again, session repeat mode): turned on part way,
+// the bins keep the same points as bins without it, holds() finds every
+// point a bin holds and none it does not, through tails merged into the
+// sorted prefix and through thinning (a floor of 2 bins, so thinning one
+// bin thins the others); ranks stay each point's rank.
+void the_index_finds_what_a_bin_holds(void **) {
+  constexpr uint32_t kLayers = 3, kCap = 256;
+  std::vector<unsigned char> m1(pv::binning::LayerBins::bytes_needed(kLayers, kCap, true));
+  std::vector<unsigned char> m2(pv::binning::LayerBins::bytes_needed(kLayers, kCap, true, true));
+  assert_int_equal(m2.size() - m1.size(), kLayers * sizeof(uint32_t));
+  pv::binning::LayerBins plain, indexed;
+  plain.init(m1.data(), kLayers, kCap, true, 2);
+  indexed.init(m2.data(), kLayers, kCap, true, 2, true);
+  const auto pts = ring(9000);
+  for (size_t i = 0; i < pts.size(); ++i) {
+    if (i == 300) {
+      assert_false(plain.start_index());  // no room for it
+      assert_true(indexed.start_index());
+      assert_int_equal(indexed.tail_max(), 32);
+    }
+    const uint32_t j = uint32_t(i % kLayers);
+    const uint64_t h = pv::point_hash(pts[i]);
+    assert_int_equal(plain.insert(j, pts[i], h), indexed.insert(j, pts[i], h));
+  }
+  assert_true(indexed.indexed());
+  for (uint32_t j = 0; j < kLayers; ++j) {
+    assert_true(indexed.level(j) >= 3);  // 3,000 points into 256 slots
+    assert_int_equal(plain.level(j), indexed.level(j));
+    assert_true(hashes_in(plain, j) == hashes_in(indexed, j));
+  }
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const uint32_t j = uint32_t(i % kLayers);
+    const pv::P3 *b = plain.points(j);
+    const bool held = std::any_of(b, b + plain.count(j), [&](const pv::P3 &q) {
+      return std::memcmp(&q, &pts[i], sizeof q) == 0;
+    });
+    assert_int_equal(indexed.holds(j, pts[i]), held);
+    assert_false(indexed.holds((j + 1) % kLayers, pts[i]));
+  }
+}
+
 }  // namespace
 
 int main() {
@@ -166,6 +207,7 @@ int main() {
       cmocka_unit_test(ranks_keep_the_same_points_in_the_same_order),
       cmocka_unit_test(a_sparse_bin_thins_at_the_dense_bins_rate),
       cmocka_unit_test(clear_forgets_everything),
+      cmocka_unit_test(the_index_finds_what_a_bin_holds),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
