@@ -88,7 +88,8 @@ class LayerBins {
   static constexpr uint32_t kMaxTail = 256;
   uint32_t tail_max() const {
     const uint32_t t = capacity_ / 64;
-    return t < 32 ? 32 : t > kMaxTail ? kMaxTail : t;
+    if (t < 32) return 32;
+    return t > kMaxTail ? kMaxTail : t;
   }
   // Bin j holds a point with p's bits (the index on: a binary search and
   // the tail; off: every point of the bin).
