@@ -193,6 +193,14 @@ void sector_tops(const pv_session *s, const levelling::Transform &t, rim::Sector
 constexpr double kBottomQuantile = 0.001;
 constexpr double kBottomMarginMm = 1.0;
 constexpr double kLostBottomMm = 20.0;
+// The other way: a floor fit some degrees off a wide pit's floor, the
+// frame turned onto the opening about a point away from the floor, and the
+// whole scan can lie above z = 0, the floor 20-67 mm up (shallow wide pits
+// whose floor fits were 4-11 deg off, tuning seed 5 #000, #032, #038).
+// The floor map floods from the cells at the bottom plane; there were
+// none, the floor was read as points inside the void: PV_PIT_CHECK_POINTS_INSIDE.
+// A bottom this far above z = 0 is moved down to it.
+constexpr double kFloatingBottomMm = 5.0;
 double bottom_mm(pv_session *s, const levelling::Transform &t) {
   const uint32_t n = s->sample.size();
   for (uint32_t i = 0; i < n; ++i) s->lv.v[i] = t.level_z(s->sample_points[i]);
@@ -270,6 +278,8 @@ Opening level_for_surface(pv_session *s, levelling::Transform *t) {
     return f.tilt_deg() > kMinSidewaysTiltDeg && f.tilt_deg() < 180.0 - kMinSidewaysTiltDeg;
   };
   if (floor_found && !sideways(from_floor)) {
+    const double bottom = bottom_mm(s, from_floor);
+    if (bottom > kFloatingBottomMm) bottom_to_zero(bottom, &from_floor, &o);
     *t = from_floor;
     o.found = true;
     return o;
