@@ -18,6 +18,14 @@ constexpr uint32_t kMinSectors = 24;
 // (seed 1 #085: the ground ring at one height in 19 of 36 sectors, the
 // other sectors' tops 10-90 mm down the wall), refused NO_RIM.
 constexpr uint32_t kMinPartialSectors = 18;
+// Fewer still, down to this many, where no sector's top lies above the
+// plane and kMinSectors sectors show a top on it or below it: the wall's
+// highest edge, seen where it is seen and nowhere exceeded, the other
+// sectors' tops lower down the wall. A 0.38 m3 bulge
+// without surround scanned 15 deg off showed its rim in 16 sectors (0.19 mm
+// RMS, level with its floor) and lower wall in the other 20: refused
+// NO_RIM (tuning seed 5 #047).
+constexpr uint32_t kMinTopPlaneSectors = 12;
 // A plane through this many sectors may correct the start frame by up to
 // kMaxSteepTiltDeg: a rounded bowl has no flat floor, and its floor-plane
 // fit lay 33-49 deg off scans tilted 49-58 deg (seeds 1301 #107, #149 and
@@ -160,7 +168,7 @@ RimPlane fit_rim_plane(const SectorTops &t) {
       r += q * double(t.z[s][k]);
       ++n;
     }
-    if (n < kMinPartialSectors) return rp;
+    if (n < kMinTopPlaneSectors) return rp;
     const Eigen::Vector3d sol = A.ldlt().solve(r);
     a = sol(0);
     b = sol(1);
@@ -180,7 +188,17 @@ RimPlane fit_rim_plane(const SectorTops &t) {
     rp.sectors = kept;
     rp.rms_mm = kept ? std::sqrt(ss / kept) : 0;
   }
-  if (rp.sectors < kMinPartialSectors || rp.rms_mm > kMaxRmsMm) return rp;
+  uint32_t above = 0, below = 0;  // sector tops over and under the plane
+  for (uint32_t s = 0; s < kRimSectors; ++s) {
+    const int k = top[s];
+    if (k < 0) continue;
+    const double e = double(t.z[s][k]) - (a + b * t.x[s][k] + c * t.y[s][k]);
+    above += e > kOnPlaneMm;
+    below += e < -kOnPlaneMm;
+  }
+  const bool top_plane = above == 0 && rp.sectors + below >= kMinSectors;
+  const uint32_t min_sectors = top_plane ? kMinTopPlaneSectors : kMinPartialSectors;
+  if (rp.sectors < min_sectors || rp.rms_mm > kMaxRmsMm) return rp;
   Eigen::Vector3d nrm(-b, -c, 1.0);
   nrm.normalize();
   const bool level = nrm.z() >= std::cos(kMaxTiltDeg * kPi / 180.0);

@@ -46,12 +46,15 @@ struct RimPlane {
   double rms_mm = 0;
   bool steep = false;    // found beyond 20 deg of the start frame
   bool partial = false;  // not found: 18-23 sectors on a plane within 20 deg
+                         // (12-23 where no top lies above it)
 };
 
 // A plane through the sector tops: found with at least 24 sectors on it
 // (residual under 2 mm), an RMS under 1.5 mm and within 20 deg of level,
 // or with at least 28 sectors within 60 deg (steep); partial with 18-23
-// sectors within 20 deg (normal and d filled for the caller's last resort).
+// sectors within 20 deg, or 12-23 with no sector's top above the plane and
+// 24 or more on it or below it (normal and d filled for the caller's last
+// resort).
 RimPlane fit_rim_plane(const SectorTops &tops);
 
 }  // namespace pv::rim
