@@ -44,6 +44,10 @@
 
 namespace {
 
+// The smallest volume pitvol measures (core: kMinVolumeCm3, README "What it
+// measures"): under it a scan reads as one in other units.
+constexpr double kBelowRangeMm3 = 600.0 * 1000.0;
+
 using namespace pv::sim;
 
 const char kUsage[] =
@@ -204,6 +208,10 @@ bool sweep_case(const EnvelopeCase &drawn, const std::string &dir, bool frames,
     }
     // A scan that left over a tenth of the wall unseen may be refused for it.
     if (c.expect == "measure" && w.coverage.unseen_share > 0.1) c.expect = "gap_ok";
+    // A pit under the instrument's range (README: under 600 cm3 reads as a
+    // scan in other units, PV_PIT_CHECK_TOO_SMALL) may be refused for it;
+    // the draws reach 0.4 L (a rounded bowl 50 mm across the radius, 80 deep).
+    if (c.expect == "measure" && pit.volume_mm3 < kBelowRangeMm3) c.expect = "below_range";
     *json += (json->empty() ? "  " : ",\n  ") + envelope_json(c, pit, w);
     *csv += envelope_csv_row(c, pit, w) + "\n";
     std::fprintf(stderr, "pitvol-sim: %-44s %9llu points  exact %12.3f cm3  unseen %.3f\n",
