@@ -74,15 +74,20 @@ bool LayerBins::start_index() {
   return true;
 }
 
+// Sorted, the copies stored before the repeat was seen lie side by side:
+// one of each stays.
 void LayerBins::sort_bin(uint32_t j) {
   P3 *bin = slots_ + size_t(j) * capacity_;
   const uint32_t n = counts_[j];
   std::sort(bin, bin + n, bits_less);
+  const uint32_t kept = n == 0 ? 0 : uint32_t(std::unique(bin, bin + n, same_bits) - bin);
+  stored_ -= n - kept;
+  counts_[j] = kept;
   if (ranks_ != nullptr) {
     uint8_t *rk = ranks_ + size_t(j) * capacity_;
-    for (uint32_t i = 0; i < n; ++i) rk[i] = rank(point_hash(bin[i]));
+    for (uint32_t i = 0; i < kept; ++i) rk[i] = rank(point_hash(bin[i]));
   }
-  sorted()[j] = n;
+  sorted()[j] = kept;
 }
 
 // The tail sorted on the stack, then merged into the prefix from the back

@@ -198,6 +198,23 @@ void the_index_finds_what_a_bin_holds(void **) {
   }
 }
 
+// Copies stored before the index starts (a scan sent again, before the
+// repeat is seen) are dropped when it sorts the bins: one of each stays.
+void the_index_keeps_one_of_each_copy(void **) {
+  std::vector<unsigned char> mem(pv::binning::LayerBins::bytes_needed(2, 512, true, true));
+  pv::binning::LayerBins b;
+  b.init(mem.data(), 2, 512, true, 0, true);
+  const auto pts = ring(100);
+  for (int copy = 0; copy < 3; ++copy) {
+    for (const pv::P3 &p : pts) assert_true(b.insert(0, p, pv::point_hash(p)));
+  }
+  assert_int_equal(b.count(0), 300);
+  assert_true(b.start_index());
+  assert_int_equal(b.count(0), 100);
+  assert_int_equal(b.stored(), 100);
+  for (const pv::P3 &p : pts) assert_true(b.holds(0, p));
+}
+
 }  // namespace
 
 int main() {
@@ -208,6 +225,7 @@ int main() {
       cmocka_unit_test(a_sparse_bin_thins_at_the_dense_bins_rate),
       cmocka_unit_test(clear_forgets_everything),
       cmocka_unit_test(the_index_finds_what_a_bin_holds),
+      cmocka_unit_test(the_index_keeps_one_of_each_copy),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
