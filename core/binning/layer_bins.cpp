@@ -174,8 +174,8 @@ void LayerBins::thin_to(uint32_t j, uint8_t level) {
   uint32_t kept = 0, kept_in_prefix = 0;
   if (ranks_ != nullptr) {
     uint8_t *rk = ranks_ + size_t(j) * capacity_;
+    for (uint32_t i = 0; i < prefix; ++i) kept_in_prefix += rk[i] >= level ? 1 : 0;
     for (uint32_t i = 0; i < n; ++i) {  // branch-free: about half are kept
-      if (i == prefix) kept_in_prefix = kept;
       const uint8_t r = rk[i];
       bin[kept] = bin[i];
       rk[kept] = r;
@@ -186,8 +186,8 @@ void LayerBins::thin_to(uint32_t j, uint8_t level) {
       if (i == prefix) kept_in_prefix = kept;
       if (passes(point_hash(bin[i]), level)) bin[kept++] = bin[i];
     }
+    if (prefix >= n) kept_in_prefix = kept;
   }
-  if (prefix >= n) kept_in_prefix = kept;
   if (indexed_) sorted()[j] = kept_in_prefix;
   const uint32_t dropped = counts_[j] - kept;
   stored_ -= dropped;

@@ -29,7 +29,7 @@ void HashSample::init(SampleEntry *storage, uint32_t capacity, uint64_t *set) {
 
 void HashSample::clear() {
   size_ = 0;
-  repeats_ = 0;
+  repeated_ = false;
   reject_above_ = ~uint64_t(0);
   if (set_ != nullptr) std::fill(set_, set_ + set_mask_ + 1, uint64_t(0));
 }
@@ -66,7 +66,7 @@ void HashSample::set_erase(uint64_t key) {
 void HashSample::offer_slow(const P3 &p, uint64_t hash) {
   const SampleEntry e{hash, p};
   if (set_ != nullptr && set_contains(set_key(hash))) {  // kept already
-    if (repeats_ < UINT32_MAX) ++repeats_;
+    repeated_ = true;
     return;
   }
   if (size_ < capacity_) {

@@ -48,9 +48,10 @@ class HashSample {
   // Copies the sample into out (capacity() entries) sorted by (hash, bits).
   void canonical(SampleEntry *out) const;
   uint32_t capacity() const { return capacity_; }
-  // Offers of a point the sample holds already (with the membership set):
-  // the stream repeats itself beyond the duplicate filter's window.
-  uint32_t repeats() const { return repeats_; }
+  // A point the sample holds already was offered again (with the
+  // membership set): the stream repeats itself beyond the duplicate
+  // filter's window.
+  bool repeated() const { return repeated_; }
 
  private:
   void offer_slow(const P3 &p, uint64_t hash);
@@ -65,7 +66,7 @@ class HashSample {
   SampleEntry *heap_ = nullptr;  // max-heap on hash
   uint64_t *set_ = nullptr;
   uint32_t set_mask_ = 0;        // slots - 1
-  uint32_t repeats_ = 0;         // saturates
+  bool repeated_ = false;
   // The largest kept hash once the sample is full, else the largest hash
   // (nothing rejected): the inline test is one compare with no loads of the
   // heap.

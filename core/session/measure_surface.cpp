@@ -135,7 +135,11 @@ constexpr double kRimSigmaMm = 0.3;
 // 31 % over unseen wall read -7.25 % +/- 0.99 % (tuning seed 5 #289). Past
 // it the interval takes in the whole volume over unseen wall: what was
 // bridged there is not measured.
-constexpr double kCalibratedUnseenShare = 0.30;
+double calibrated_unseen_share() {
+  pv_config_t d;
+  pv_config_default(&d);
+  return double(d.max_unseen_share);
+}
 
 // pv_session_estimate() builds the model from every kEstimateStride-th
 // stored point of each bin, so the live figure costs part of finish()'s
@@ -466,7 +470,7 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   // Coarse bins (pv_config_t.surface_coarse_bins): what their few points
   // cannot resolve (surface::Model, sparse_mm3 and subbin_mm3).
   if (p.coarse_bins) interval_mm3 += m.sparse_mm3 + m.subbin_mm3;
-  if (out->unseen_share > kCalibratedUnseenShare) interval_mm3 += v.unseen_mm3;
+  if (out->unseen_share > calibrated_unseen_share()) interval_mm3 += v.unseen_mm3;
   out->volume_cm3 = v.volume_mm3 / 1000.0;
   out->interval_cm3 = interval_mm3 / 1000.0;
   out->status = PV_OK;

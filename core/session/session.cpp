@@ -371,9 +371,9 @@ extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points
       const P3 p{q.x_mm, q.y_mm, q.z_mm};
       const uint64_t h = point_hash(p);
       s->sample.offer(p, h);
-      if (s->sample.repeats() > 0 && !s->repeat_mode && s->have_transform) {
-        session::start_repeat_mode(s);
-      }
+      // Per point, not per batch: where the repeat is seen does not depend
+      // on how the caller cut the stream into pushes.
+      if (!s->repeat_mode && s->sample.repeated() && s->have_transform) session::start_repeat_mode(s);
       if (!s->have_transform) {
         s->warmup[s->warmup_count++] = p;
         if (s->warmup_count == s->cfg.warmup_points) session::establish_transform(s);

@@ -67,14 +67,19 @@ std::vector<pv_point_t> frame_copy(const pv_point_t *p, size_t n, int c) {
   return f;
 }
 
-pv_result_t measure_once(const std::vector<pv_point_t> &pts, pv_method_t m) {
+// The scan pushed `copies` times over, one copy after the other.
+pv_result_t measure_copies(const std::vector<pv_point_t> &pts, pv_method_t m, int copies) {
   TestSession b(m);
-  assert_int_equal(b.push_all(pts, kFrame), PV_OK);
+  for (int c = 0; c < copies; ++c) assert_int_equal(b.push_all(pts, kFrame), PV_OK);
   pv_result_t r{};
   // A refusal is a result too (compared below); the call must have made one.
   const pv_status_t st = pv_session_finish(b.s, &r);
   assert_int_equal(st, r.status);
   return r;
+}
+
+pv_result_t measure_once(const std::vector<pv_point_t> &pts, pv_method_t m) {
+  return measure_copies(pts, m, 1);
 }
 
 pv_result_t measure_resent(const std::vector<pv_point_t> &pts, pv_method_t m) {
@@ -91,15 +96,6 @@ pv_result_t measure_resent(const std::vector<pv_point_t> &pts, pv_method_t m) {
       if (k >= size_t(c) && k - size_t(c) < frames) send(k - size_t(c), c);
     }
   }
-  pv_result_t r{};
-  const pv_status_t st = pv_session_finish(b.s, &r);
-  assert_int_equal(st, r.status);
-  return r;
-}
-
-pv_result_t measure_sent_again(const std::vector<pv_point_t> &pts, pv_method_t m, int copies) {
-  TestSession b(m);
-  for (int c = 0; c < copies; ++c) assert_int_equal(b.push_all(pts, kFrame), PV_OK);
   pv_result_t r{};
   const pv_status_t st = pv_session_finish(b.s, &r);
   assert_int_equal(st, r.status);
@@ -148,7 +144,7 @@ void a_scan_sent_whole_again_measures_as_once(void **) {
   for (const std::string &path : scans) {
     const std::vector<pv_point_t> pts = read_scan(path);
     const pv_result_t a = measure_once(pts, PV_METHOD_SURFACE);
-    const pv_result_t b = measure_sent_again(pts, PV_METHOD_SURFACE, 3);
+    const pv_result_t b = measure_copies(pts, PV_METHOD_SURFACE, 3);
     const double rel = a.status == PV_OK ? std::fabs(b.volume_cm3 - a.volume_cm3) / a.volume_cm3 : 0.0;
     std::printf("%-40s surface %-22s %12.4f cm3  3 copies: %-22s %12.4f cm3  rel %.2e\n",
                 path.substr(path.rfind('/') + 1).c_str(), pv_status_name(a.status), a.volume_cm3,
