@@ -68,10 +68,42 @@ uint32_t around(uint32_t t, int d, uint32_t T) {
   return uint32_t((int64_t(t) + d + int64_t(T)) % int64_t(T));
 }
 
+// Caps for the bins that are not flat (flat_cap: the flat bins' caps, the
+// others HUGE_VALF) into out, from each bin's inner edge and the flat
+// bins' median width w.
+void fill_caps(const float *flat_cap, const float *hole, float w, bool vessel, uint32_t T,
+               float *out) {
+  // A vessel's lip (a flat ring a few mm wide) runs on round it: between
+  // flat bins its outer edge is taken from them (linear in angle, within
+  // kLipFillReachDeg). A bin's own inner edge, the third smallest radius of
+  // its top band, fails where a lip seen from far leaves a bin a few points,
+  // all near the outer edge: capped from there, the outer wall under it
+  // counted as pit (tuning seed 1 #222, 6-23 top band points a bin: +4.4 %).
+  // A ground ring is no such ring: its outer edge is where the scan stopped,
+  // and carried into a bin across an elliptical pit's wall it cut the wall
+  // (seed 1 #149: -1.1 %); there the bin keeps its own inner edge.
+  const int fill_reach = int(std::ceil(kLipFillReachDeg / 360.0 * double(T)));
+  for (uint32_t t = 0; t < T; ++t) {
+    out[t] = flat_cap[t];
+    if (flat_cap[t] < HUGE_VALF || !(hole[t] < HUGE_VALF)) continue;
+    out[t] = hole[t] + w - float(kLipTolMm);
+    if (!vessel) continue;
+    int dl = 0, dr = 0;
+    for (int d = 1; d <= fill_reach && dl == 0; ++d) dl = flat_cap[around(t, -d, T)] < HUGE_VALF ? d : 0;
+    for (int d = 1; d <= fill_reach && dr == 0; ++d) dr = flat_cap[around(t, d, T)] < HUGE_VALF ? d : 0;
+    const float cl = dl ? flat_cap[around(t, -dl, T)] : 0.0f, cr = dr ? flat_cap[around(t, dr, T)] : 0.0f;
+    if (dl && dr) {
+      out[t] = (cl * float(dr) + cr * float(dl)) / float(dl + dr);
+    } else if (dl || dr) {
+      out[t] = dl ? cl : cr;
+    }
+  }
+}
+
 }  // namespace
 
-void lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
-              float *scratch) {
+bool lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
+              float *vessel_cap, float *scratch) {
   const uint32_t T = ws.cap.theta_bins;
   // scratch, theta_bins floats each: pass 1's top band extremes and
   // counts, pass 2's counts, and the bins' pooled edges.
@@ -146,40 +178,40 @@ void lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float
     ++known;
     if (cap[t] < HUGE_VALF) width[flat++] = cap[t] + float(kLipTolMm) - hole[t];
   }
-  if (flat == 0 || 2 * flat < known) return;
+  if (flat == 0) return false;
   std::nth_element(width, width + flat / 2, width + flat);
   const float w = width[flat / 2];
-  // A vessel's lip (a flat ring a few mm wide) runs on round it: between
-  // flat bins its outer edge is taken from them (linear in angle, within
-  // kLipFillReachDeg). A bin's own inner edge, the third smallest radius of
-  // its top band, fails where a lip seen from far leaves a bin a few points,
-  // all near the outer edge: capped from there, the outer wall under it
-  // counted as pit (tuning seed 1 #222, 6-23 top band points a bin: +4.4 %).
-  // A ground ring is no such ring: its outer edge is where the scan stopped,
-  // and carried into a bin across an elliptical pit's wall it cut the wall
-  // (seed 1 #149: -1.1 %); there the bin keeps its own inner edge.
-  float *const flat_cap = x.e2;  // the second largest radii are spent too
-  for (uint32_t t = 0; t < T; ++t) flat_cap[t] = cap[t];
   // On coarse bins (the MCU profile's 10 deg) a wall without surround
   // spans enough radius within a bin to look like a flat ring, and the fill
   // carried a cap across an elliptical wall (held-out elliptical-n-102:
   // -0.47 -> -3.26 %): there the bins keep their own inner edge.
   const bool vessel = w <= float(kLipMaxWidthMm) && T >= kLipFillMinBins;
-  const int fill_reach = int(std::ceil(kLipFillReachDeg / 360.0 * double(T)));
-  for (uint32_t t = 0; t < T; ++t) {
-    if (cap[t] < HUGE_VALF || !(hole[t] < HUGE_VALF)) continue;
-    cap[t] = hole[t] + w - float(kLipTolMm);
-    if (!vessel) continue;
-    int dl = 0, dr = 0;
-    for (int d = 1; d <= fill_reach && dl == 0; ++d) dl = flat_cap[around(t, -d, T)] < HUGE_VALF ? d : 0;
-    for (int d = 1; d <= fill_reach && dr == 0; ++d) dr = flat_cap[around(t, d, T)] < HUGE_VALF ? d : 0;
-    const float cl = dl ? flat_cap[around(t, -dl, T)] : 0.0f, cr = dr ? flat_cap[around(t, dr, T)] : 0.0f;
-    if (dl && dr) {
-      cap[t] = (cl * float(dr) + cr * float(dl)) / float(dl + dr);
-    } else if (dl || dr) {
-      cap[t] = dl ? cl : cr;
-    }
+  float *const flat_cap = x.e2;  // the second largest radii are spent too
+  for (uint32_t t = 0; t < T; ++t) flat_cap[t] = cap[t];
+  if (2 * flat >= known) {
+    fill_caps(flat_cap, hole, w, vessel, T, cap);
+    return false;
   }
+  // Under half of the round flat: a vessel whose lip the scan saw from far
+  // in most bins, or a wall whose top spans a few mm in a bin (an oval or a
+  // textured wall, no vessel). The round's caps wait for the grid passes'
+  // evidence of an outer wall (surface_model.cpp, kOuterWallShare).
+  if (!vessel || w < float(kLipMinWidthMm) || kLipMinFlatShare * double(known) > double(flat)) return false;
+  // A vessel's wall is as thick all round; a pass slipped sideways puts
+  // its wall top beside the other's by the slip times the cosine of the
+  // angle to it (tuning seed 5 #27: widths 0.4-20 mm, the tenth widest 4.2x
+  // the median; the vessels of tuning seeds 5, 11 and 12 at most 1.64x).
+  std::nth_element(width + flat / 2, width + flat * 9 / 10, width + flat);
+  if (width[flat * 9 / 10] > float(kLipMaxWidthSpread) * w) return false;
+  fill_caps(flat_cap, hole, w, true, T, vessel_cap);
+  // A flat bin whose ring reads narrower than the median saw part of the
+  // lip (its outer edge the inner wall's top, a texture's bump): capped
+  // there, the grooves below it were cut (tuning seed 5 #182, a grooved
+  // vessel: -0.40 %). Its cap is at least the median width out.
+  for (uint32_t t = 0; t < T; ++t) {
+    if (flat_cap[t] < HUGE_VALF) vessel_cap[t] = std::max(vessel_cap[t], hole[t] + w - float(kLipTolMm));
+  }
+  return true;
 }
 
 }  // namespace pv::surface

@@ -53,13 +53,26 @@ constexpr int kLipMaxReach = 3;
 constexpr double kLipMaxWidthMm = 20.0;
 constexpr double kLipFillReachDeg = 30.0;
 constexpr uint32_t kLipFillMinBins = 180;  // 2 deg bins or finer
+// Under half of the round flat, the round may still be a vessel's where
+// its flat bins are at least this share of the bins with a top and their
+// median width a wall's (the simulator's lips are 3-15 mm; a wall's top
+// that looks flat in a bin or two spans a tenth of a millimetre).
+constexpr double kLipMinFlatShare = 0.05;
+constexpr double kLipMinWidthMm = 1.0;
+// and the tenth widest flat bin at most this many times their median width.
+constexpr double kLipMaxWidthSpread = 2.5;
 
 // cap[t] for each of the wall grid's theta bins around m.axis: points
 // below the top band with a radius of cap[t] or more are outside the pit
 // (HUGE_VALF: no flat top in that bin, no cap). scratch: 14 * theta_bins
 // floats. Two passes over the points of the top band.
-void lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
-              float *scratch);
+// Where under half of the round's top is flat but the flat bins' width is
+// a vessel's, cap holds the flat bins only and vessel_cap (theta_bins
+// floats) the whole round as a vessel's (the flat bins' caps carried round):
+// returns true, and the grid decides from the wall below which it is
+// (surface_model.cpp, kOuterWallShare).
+bool lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
+              float *vessel_cap, float *scratch);
 
 }  // namespace pv::surface
 

@@ -139,7 +139,7 @@ struct Workspace {
   float *wall_val;        // R at the bin centre (bridged where unseen)
   float *wall_lo, *wall_hi;  // bridged with the lower / higher neighbour
   FloorCell *floor;       // cells * cells
-  float *slab_top;        // max(slabs * kAxisSectors * 2, theta_bins): two largest radii
+  float *slab_top;        // max(slabs * kAxisSectors * 2, 2 * theta_bins): two largest radii
   float *ray_floor;       // theta_bins * ray_steps: floor along each ray
   float *ray_max;         // prefix maximum of ray_floor
   // The container lip's cap per theta bin (container_lip.h), for the grid
@@ -147,6 +147,10 @@ struct Workspace {
   // memory, free once the axis is fit (ray_max's, where it was, integrate()
   // overwrites).
   float *lip_cap;
+  // After lip_cap, in slab_top's memory: the round as a vessel's
+  // (lip_caps()). A function, not a field: the MCU's session header has no
+  // room for a pointer more.
+  float *vessel_cap() const { return slab_top + cap.theta_bins; }
   uint32_t *fill_idx;     // theta_bins * z_bins (bridging rounds)
   float *fill_val;        // max(theta_bins * z_bins * 3, cells * cells)
   uint32_t *queue;        // cells * cells (floor flood)
