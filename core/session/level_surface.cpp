@@ -154,8 +154,34 @@ bool level_on_ground(pv_session *s, levelling::Transform *t, double *ground_mm) 
   return true;
 }
 
+// Mean height in frame t of the points of a store, and their count.
+double mean_height(const binning::LayerBins &bins, const levelling::Transform &t, uint64_t *n) {
+  double sz = 0;
+  *n = 0;
+  for (uint32_t b = 0; b < bins.layers(); ++b) {
+    for (uint32_t i = 0; i < bins.count(b); ++i) {
+      sz += t.apply(bins.points(b)[i]).z();
+      ++*n;
+    }
+  }
+  return *n ? sz / double(*n) : 0.0;
+}
+
+void offer_all(const binning::LayerBins &bins, const levelling::Transform &t, rim::SectorTops *tops) {
+  for (uint32_t b = 0; b < bins.layers(); ++b) {
+    for (uint32_t i = 0; i < bins.count(b); ++i) {
+      const Eigen::Vector3d v = t.apply(bins.points(b)[i]);
+      tops->offer(v.x(), v.y(), v.z());
+    }
+  }
+}
+
 // Sector tops of the stored points (levelled by t) around their centre.
-// The floor store holds only the bottom: its points are not needed here.
+// The floor store holds the bottom of the frame the points were binned in:
+// not needed here, unless that frame was upside down against t (a warm-up
+// levelled on the wrong side of a small tilted pit puts the wall's top in
+// the floor store: the tops stopped 22 mm under the rim, the rim plane
+// was fit there and a bulge read -25.5 % with PV_OK, tuning seed 14 #022).
 void sector_tops(const pv_session *s, const levelling::Transform &t, rim::SectorTops *tops) {
   double sx = 0, sy = 0;
   uint64_t n = 0;
@@ -168,16 +194,18 @@ void sector_tops(const pv_session *s, const levelling::Transform &t, rim::Sector
       ++n;
     }
   }
+  bool floor_on_top = false;
+  if (s->floor_layers > 0) {
+    uint64_t nw = 0, nf = 0;
+    const double wall_z = mean_height(bins, t, &nw), floor_z = mean_height(s->floor_bins, t, &nf);
+    floor_on_top = nw > 0 && nf > 0 && floor_z > wall_z;
+  }
   if (n == 0) n = 1;
   tops->clear(sx / double(n), sy / double(n));
   for (int round = 0; round <= rim::kRimDigRounds; ++round) {
     if (round > 0 && !tops->dig()) break;
-    for (uint32_t b = 0; b < bins.layers(); ++b) {
-      for (uint32_t i = 0; i < bins.count(b); ++i) {
-        const Eigen::Vector3d v = t.apply(bins.points(b)[i]);
-        tops->offer(v.x(), v.y(), v.z());
-      }
-    }
+    offer_all(bins, t, tops);
+    if (floor_on_top) offer_all(s->floor_bins, t, tops);
   }
 }
 
