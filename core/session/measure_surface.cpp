@@ -115,6 +115,18 @@ bool second_level_applies(const surface::Params &p) { return !p.coarse_bins; }
 // and up, those reading wrong with PV_OK 0.16-0.42 (7 of their 16 under
 // the limit: +3.1 to +36 %). On every grid but the MCU's coarse one.
 constexpr double kMinThinTopRatio = 0.33;
+// A pass slipped sideways, seen at the rim (surface::Occupancy::over_mouth):
+// its ground ring, or its wall's top, lies over the other pass's mouth,
+// inside the wall the grid reads (the outer of the two). Over this share of
+// the points within 1.5 mm of the rim's height, of at least
+// kMinOverMouthPoints (at the occupancy's stride): refused. Tuning seeds 12
+// and 14 (270 scans): single scans 0.047 at most (a textured wall's top,
+// 13 points), the slips 0.05 to 0.46, the two measured wrong with PV_OK
+// 0.058 and 0.10 (a 1.4 L pit slipped 18 mm: +21 %; a 1.6 L one slipped
+// 13.5 mm: +4.1 %). On every grid but the MCU's coarse one (not measured
+// there).
+constexpr double kMaxOverMouthShare = 0.05;
+constexpr uint64_t kMinOverMouthPoints = 20;
 
 // The opening faces the scanner, which looks down into the pit; a scan
 // whose opening faces away is a mound (or a scanner frame upside down:
@@ -255,7 +267,7 @@ void widest_unseen_band(const pv_result_t &r, double rim_mm, double *from, doubl
 // does not).
 pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
                          const surface::SecondLevel &second, const ThinTop &top, bool ghost_checks,
-                         bool floor_check, double rim_area_mm2, double max_section_mm2,
+                         bool floor_check, bool mouth_check, double rim_area_mm2, double max_section_mm2,
                          double tilt_deg, double max_tilt_deg, double max_radius_mm,
                          double volume_mm3, pv_result_t *out) {
   const auto refuse = [out](pv_pit_check_t c, double value, double limit) {
@@ -289,6 +301,10 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
     return refuse(PV_PIT_CHECK_DOUBLED_RIM, second.ratio, kMaxSecondLevel);
   }
   if (top.ratio < kMinThinTopRatio) return refuse(PV_PIT_CHECK_THIN_TOP, top.ratio, kMinThinTopRatio);
+  if (mouth_check && occ.over_mouth >= kMinOverMouthPoints) {
+    const double over = double(occ.over_mouth) / double(occ.rim_level);
+    if (over > kMaxOverMouthShare) return refuse(PV_PIT_CHECK_OVER_MOUTH, over, kMaxOverMouthShare);
+  }
   if (!ghost_checks) return PV_PIT_CHECK_NONE;
   if (m.ghost_contrast > kMaxGhostContrast) {
     return refuse(PV_PIT_CHECK_DOUBLED_WALL, m.ghost_contrast, kMaxGhostContrast);
@@ -391,7 +407,8 @@ pv_status_t build_and_check_at(pv_session *s, const levelling::Transform &t, dou
   const surface::SecondLevel second =
       second_level_applies(c->p) ? surface::second_level(c->occ) : surface::SecondLevel{};
   const ThinTop top = second_level_applies(c->p) ? thin_top(s, t, rim_mm, c->m.axis) : ThinTop{};
-  if (check_pit(c->occ, c->m, second, top, ghost_checks, floor_check, c->v.rim_area_mm2, max_section,
+  if (check_pit(c->occ, c->m, second, top, ghost_checks, floor_check, second_level_applies(c->p),
+                c->v.rim_area_mm2, max_section,
                 out->tilt_deg, double(s->cfg.max_opening_tilt_deg),
                 scale * double(s->cfg.surface_max_radius_mm), c->v.volume_mm3,
                 out) != PV_PIT_CHECK_NONE) {

@@ -82,6 +82,7 @@ extern "C" const char *pv_pit_check_name(uint32_t check) {
     case PV_PIT_CHECK_TOO_SMALL: return "PV_PIT_CHECK_TOO_SMALL";
     case PV_PIT_CHECK_DOUBLED_RIM: return "PV_PIT_CHECK_DOUBLED_RIM";
     case PV_PIT_CHECK_THIN_TOP: return "PV_PIT_CHECK_THIN_TOP";
+    case PV_PIT_CHECK_OVER_MOUTH: return "PV_PIT_CHECK_OVER_MOUTH";
     default: return "PV_PIT_CHECK_UNKNOWN";
   }
 }
@@ -130,6 +131,11 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
       return "the top of the wall was seen by one pass only, the wall below it "
              "by two: the passes lie apart in height (the scanner lost its "
              "tracking during the scan); scan the pit again in one steady pass";
+    case PV_PIT_CHECK_OVER_MOUTH:
+      return "the ground (or the top of the wall) lies over the pit's mouth, "
+             "inside the wall: the scan holds the pit twice, shifted sideways "
+             "(the scanner lost its tracking during the scan); scan the pit "
+             "again in one steady pass";
     default: return "unknown check";
   }
 }

@@ -102,8 +102,18 @@ void fill_caps(const float *flat_cap, const float *hole, float w, bool vessel, u
 
 }  // namespace
 
-bool lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
-              float *vessel_cap, float *scratch) {
+namespace {
+
+// ring[t]: the width of the flat top a cap stands for, from the bin's
+// inner edge out to the cap's edge (HUGE_VALF: no cap).
+void ring_widths(const float *cap, const float *hole, uint32_t T, float *ring) {
+  for (uint32_t t = 0; t < T; ++t) {
+    ring[t] = cap[t] < HUGE_VALF && hole[t] < HUGE_VALF ? cap[t] + float(kLipTolMm) - hole[t] : HUGE_VALF;
+  }
+}
+
+bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
+          float *vessel_cap, float *scratch, float **hole_out) {
   const uint32_t T = ws.cap.theta_bins;
   // scratch, theta_bins floats each: pass 1's top band extremes and
   // counts, pass 2's counts, and the bins' pooled edges.
@@ -127,6 +137,7 @@ bool lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float
   x.n_below = carve(0.0f), x.n_below_out = carve(0.0f);
   float *const edge = carve(HUGE_VALF);
   float *const hole = carve(HUGE_VALF);   // the inner edge
+  *hole_out = hole;
   float *const reach = carve(0.0f);       // window half-width, bins
   x.edge = edge;
   x.hole = hole;
@@ -212,6 +223,16 @@ bool lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float
     if (flat_cap[t] < HUGE_VALF) vessel_cap[t] = std::max(vessel_cap[t], hole[t] + w - float(kLipTolMm));
   }
   return true;
+}
+
+}  // namespace
+
+bool lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
+              float *vessel_cap, float *ring, float *scratch) {
+  float *hole = nullptr;
+  const bool undecided = caps(src, ws, m, cap, vessel_cap, scratch, &hole);
+  ring_widths(undecided ? vessel_cap : cap, hole, ws.cap.theta_bins, ring);
+  return undecided;
 }
 
 }  // namespace pv::surface

@@ -70,9 +70,11 @@ constexpr double kLipMaxWidthSpread = 2.5;
 // a vessel's, cap holds the flat bins only and vessel_cap (theta_bins
 // floats) the whole round as a vessel's (the flat bins' caps carried round):
 // returns true, and the grid decides from the wall below which it is
-// (surface_model.cpp, kOuterWallShare).
+// (surface_model.cpp, kOuterWallShare). ring (theta_bins floats): each
+// capped bin's flat top's width, from its inner edge out to the cap's edge
+// (of the vessel's caps where the round is undecided; HUGE_VALF: no cap).
 bool lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
-              float *vessel_cap, float *scratch);
+              float *vessel_cap, float *ring, float *scratch);
 
 }  // namespace pv::surface
 

@@ -43,7 +43,7 @@ size_t layout(const Capacity &c, unsigned char *base, Workspace *ws) {
   w.wall_hi = take<float>(base, &off, bins);
   w.floor = take<FloorCell>(base, &off, cells);
   w.slab_top = take<float>(base, &off,
-                           std::max<size_t>(size_t(c.slabs) * kAxisSectors * 2, 2 * size_t(c.theta_bins)));
+                           std::max<size_t>(size_t(c.slabs) * kAxisSectors * 2, 3 * size_t(c.theta_bins)));
   w.ray_floor = take<float>(base, &off, rays);
   w.ray_max = take<float>(base, &off, rays);
   w.lip_cap = w.slab_top;
@@ -1153,7 +1153,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   const Geo g = geo_of(ws, *m, p);
   // fill_val (3 x theta_bins x the capacity's z_bins floats) is free until
   // the bridging: the lip's 14 x theta_bins scratch.
-  const bool undecided = lip_caps(src, ws, *m, ws.lip_cap, ws.vessel_cap(), ws.fill_val);
+  const bool undecided = lip_caps(src, ws, *m, ws.lip_cap, ws.vessel_cap(), ws.ring_width(), ws.fill_val);
   GridCtx gc = grid_passes(src, p, ws, *m, g, undecided ? ws.vessel_cap() : nullptr);
   if (undecided && double(gc.outer_inner) >= kOuterWallShare * double(gc.outer_points) &&
       gc.outer_points >= kOuterMinPoints) {
@@ -1490,6 +1490,8 @@ struct OccCtx {
   double margin;
   Occupancy *o;
   ThetaCache cache;  // as the last build() left it
+  double guard;      // Params::rim_guard_mm
+  bool mouth;        // Occupancy::over_mouth is counted (not a vessel)
 };
 
 // A point of the surround near the rim (Occupancy::rim_hist).
@@ -1506,12 +1508,31 @@ void surround_point(OccCtx *x, const Point &q, double above) {
   x->o->rim_sectors[h] |= uint64_t(1) << (t * kRimSectors / x->g.T);
 }
 
+// A point at the rim's height (Occupancy::over_mouth), against the wall's
+// top bin below the grid's guard under the rim.
+void mouth_point(OccCtx *x, const Point &q) {
+  const Model &m = *x->m;
+  ++x->o->rim_level;
+  const double dx = q.x - m.axis.cx(q.z), dy = q.y - m.axis.cy(q.z);
+  const uint32_t t = x->ws->theta->bin(dx, dy);
+  const double r = std::sqrt(dx * dx + dy * dy);
+  // The lower of the top two bins: a container's lip dips into the top
+  // bin where it sits under the rim's plane, and the bin reads its outer
+  // edge (tuning seeds 5 and 1309: vessels refused). A wall that flares
+  // upward (a bowl) has its top outside both; a neck, inside both.
+  const double z1 = m.rim_mm - x->guard - 0.5 * x->g.dz;
+  const double top = std::min(radius_at(x->ws->wall_val, x->g, t, z1),
+                              radius_at(x->ws->wall_val, x->g, t, z1 - x->g.dz));
+  x->o->over_mouth += r < top - kMouthMarginMm ? 1 : 0;
+}
+
 void occupancy_pass(void *c, const Point &q) {
   auto *x = static_cast<OccCtx *>(c);
   const Model &m = *x->m;
   const size_t idx = x->cache.next++;
   const double above = q.z - (m.rim_mm - kRimHistBelowMm);
   if (above >= 0 && above < double(kRimHistBins)) surround_point(x, q, above);
+  if (x->mouth && std::fabs(q.z - m.rim_mm) <= kMouthBandMm) mouth_point(x, q);
   if (q.z >= m.rim_mm || q.z < m.z0_mm) return;
   ++x->o->points;
   if (q.z > m.rim_mm - x->margin) return;
@@ -1534,7 +1555,18 @@ void occupancy_pass(void *c, const Point &q) {
 Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
                     const Params &p, double margin_mm) {
   Occupancy o{};
-  OccCtx c{&ws, &m, geo_of(ws, m, p), margin_mm, &o, theta_cache(ws)};
+  // A vessel's lip (a flat ring up to kLipMaxWidthMm wide) stands over its
+  // outer wall, and where a bin reads that wall the lip lies inside the
+  // wall's top (fresh seed 1309: 4 vessels refused): not around a vessel,
+  // one whose capped bins are mostly a lip's width.
+  uint32_t rings = 0, lips = 0;
+  for (uint32_t t = 0; t < ws.cap.theta_bins; ++t) {
+    const float w = ws.ring_width()[t];
+    rings += w < HUGE_VALF ? 1 : 0;
+    lips += w <= float(kLipMaxWidthMm) ? 1 : 0;
+  }
+  const bool vessel = rings > 0 && 2 * lips >= rings;
+  OccCtx c{&ws, &m, geo_of(ws, m, p), margin_mm, &o, theta_cache(ws), p.rim_guard_mm, !vessel};
   src.visit(src.ctx, each<occupancy_pass>, &c);
   const size_t bins = size_t(ws.cap.theta_bins) * m.z_bins;
   for (size_t i = 0; i < bins; ++i) {

@@ -139,7 +139,7 @@ struct Workspace {
   float *wall_val;        // R at the bin centre (bridged where unseen)
   float *wall_lo, *wall_hi;  // bridged with the lower / higher neighbour
   FloorCell *floor;       // cells * cells
-  float *slab_top;        // max(slabs * kAxisSectors * 2, 2 * theta_bins): two largest radii
+  float *slab_top;        // max(slabs * kAxisSectors * 2, 3 * theta_bins): two largest radii
   float *ray_floor;       // theta_bins * ray_steps: floor along each ray
   float *ray_max;         // prefix maximum of ray_floor
   // The container lip's cap per theta bin (container_lip.h), for the grid
@@ -151,6 +151,8 @@ struct Workspace {
   // (lip_caps()). A function, not a field: the MCU's session header has no
   // room for a pointer more.
   float *vessel_cap() const { return slab_top + cap.theta_bins; }
+  // And after it, each bin's flat top's width (lip_caps()).
+  float *ring_width() const { return slab_top + 2 * size_t(cap.theta_bins); }
   uint32_t *fill_idx;     // theta_bins * z_bins (bridging rounds)
   float *fill_val;        // max(theta_bins * z_bins * 3, cells * cells)
   uint32_t *queue;        // cells * cells (floor flood)
@@ -293,7 +295,14 @@ struct Occupancy {
   double max_section_mm2; // largest section (integration step), for the mouth
   uint32_t rim_hist[kRimHistBins];
   uint64_t rim_sectors[kRimHistBins];
+  // Points within kMouthBandMm of the rim's height, and of those the ones
+  // more than kMouthMarginMm inside the wall's top at their angle: over
+  // the mouth, where a single scan has next to nothing (a pass slipped
+  // sideways puts its ground or wall top there, over the other's void).
+  uint64_t rim_level, over_mouth;
 };
+constexpr double kMouthBandMm = 1.5;
+constexpr double kMouthMarginMm = 5.0;
 
 // A second level in the surround (Occupancy::rim_hist): the most prominent
 // 3 mm of height centred 8 to 40 mm below the rim (its points less three

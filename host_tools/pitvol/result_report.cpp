@@ -141,6 +141,11 @@ std::string check_figures(const pv_result_t &r) {
                     "least %.0f %%)",
                     100 * r.check_value, 100 * r.check_limit);
       break;
+    case PV_PIT_CHECK_OVER_MOUTH:
+      std::snprintf(b, sizeof b,
+                    "%.1f %% of the points at the rim's height lie over the mouth (one scan: at most %.1f %%)",
+                    100 * r.check_value, 100 * r.check_limit);
+      break;
     default: std::snprintf(b, sizeof b, "no figure"); break;
   }
   return b;

@@ -160,6 +160,11 @@ void pv_advice_refusal(const pv_result_t *r, pv_status_t st, pv_advice_t *out) {
                        : (r->failed_check == PV_PIT_CHECK_DOUBLED_FLOOR ? "floor" : "rim"));
           snprintf(todo, ct, "rescan in one steady pass");
           return;
+        case PV_PIT_CHECK_OVER_MOUTH:
+          /* Two passes shifted sideways: the scanner lost its tracking. */
+          snprintf(why, cw, "passes shifted sideways");
+          snprintf(todo, ct, "rescan in one steady pass");
+          return;
         case PV_PIT_CHECK_THIN_TOP:
           /* Two passes apart in height: the scanner lost its tracking. */
           snprintf(why, cw, "passes apart in height");

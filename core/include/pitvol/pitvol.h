@@ -101,12 +101,18 @@ typedef enum pv_pit_check {
                                      8-40 mm under the rim over those at the
                                      rim; limit: the most a single scan
                                      shows */
-  PV_PIT_CHECK_THIN_TOP = 11      /* value: the wall's points per mm of
+  PV_PIT_CHECK_THIN_TOP = 11,     /* value: the wall's points per mm of
                                      height from a step 6-42 mm under the
                                      rim up to it, over those in the 20 mm
                                      below the step (the top seen by one
                                      pass of two slipped apart in height);
                                      limit: the least a single scan shows */
+  PV_PIT_CHECK_OVER_MOUTH = 12    /* value: the share of the points at the
+                                     rim's height that lie over the mouth,
+                                     5 mm or more inside the wall's top (a
+                                     pass slipped sideways: its ground or
+                                     wall top over the other's void); limit:
+                                     the most a single scan shows */
 } pv_pit_check_t;
 /* "PV_PIT_CHECK_POINTS_INSIDE", ... */
 const char *pv_pit_check_name(uint32_t check);

@@ -11,13 +11,17 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 # measure INDEX [SEED]: sets status, check, volume and exact for the sweep
 # case (seed 1 unless given); with measure_config=FILE, measured with that
 # configuration; with sweep_args (--family F --condition C), from that
-# sweep.
+# sweep; with twin=1, the case's 1x twin.
 measure() {
   local dir="$work/$1"
   # shellcheck disable=SC2086
   "$sim" sweep --seed "${2:-1}" --index "$1" ${sweep_args:-} --out "$dir" 2>/dev/null
   local ply
-  ply=$(ls "$dir"/*.ply | grep -v -- '-1x.ply' | head -1)
+  if [ -n "${twin:-}" ]; then
+    ply=$(ls "$dir"/*-1x.ply | head -1)
+  else
+    ply=$(ls "$dir"/*.ply | grep -v -- '-1x.ply' | head -1)
+  fi
   json=$("$pitvol" measure "$ply" --json ${measure_config:+--config "$measure_config"} 2>/dev/null || true)
   status=$(grep -o '"status": "[A-Z_]*"' <<<"$json" | cut -d'"' -f4)
   check=$(grep -o '"failed_check": "[A-Z_]*"' <<<"$json" | cut -d'"' -f4 || true)
@@ -193,4 +197,16 @@ sweep_args="--condition nominal" measure 72 12
 # Capped as a vessel's round it read -8.8 % with PV_OK (tuning seed 5).
 measure 27 5
 [ "$status" = PV_ERR_NOT_A_PIT ] || fail "5/27 (sideways slip, textured, no surround): $status $volume cm3 against $exact"
-echo "envelope findings: 30 cases as expected"
+# A 1.4 L pit whose second pass slipped 18 mm sideways, further than the
+# doubled-wall window: each pass's ground over the other's mouth; +21.4 %
+# with PV_OK (tuning seed 14).
+sweep_args="--condition slip_lateral" measure 12 14
+[ "$status" = PV_ERR_NOT_A_PIT ] && [ "$check" = PV_PIT_CHECK_OVER_MOUTH ] ||
+  fail "14/12 (sideways slip 18 mm, 1.4 L): $status $check $volume cm3 against $exact"
+# A 1.6 L bulge without surround scanned 25 deg off, its frame at the
+# warm-up upside down: the wall's top went to the floor store, the rim
+# plane was fit 22 mm under the rim, -25.5 % with PV_OK (tuning seed 14,
+# the 1x twin). Now the rim is found; the store's top is thin (refused).
+twin=1 sweep_args="--condition slip_lateral" measure 22 14
+[ "$status" != PV_OK ] || within 1.0 || fail "14/22 1x (frame upside down at warm-up): $status $volume cm3 against $exact"
+echo "envelope findings: 32 cases as expected"
