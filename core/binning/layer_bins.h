@@ -81,6 +81,9 @@ class LayerBins {
   // without the index's memory (init's index).
   bool start_index();
   bool indexed() const { return indexed_; }
+  // A full bin was offered a point it holds (insert_full()): the stream
+  // repeats itself.
+  bool copy_refused() const { return copy_refused_; }
   // A tail a 64th of a bin, 32 to kMaxTail points: a layer bin of 1024
   // merges every 32 new points, the floor store of 65,536 every 256 (256
   // moves a point, where nearly every point is a copy and few are new);
@@ -135,6 +138,7 @@ class LayerBins {
   uint8_t floor_ = 0;
   bool has_index_ = false;  // init's index: sorted() is carved
   bool indexed_ = false;
+  bool copy_refused_ = false;  // insert_full() refused a point the bin held
   // Per bin, the sorted prefix's length: carved after the counts (no
   // pointer of its own: the MCU profile's session header is at its limit).
   uint32_t *sorted() const { return counts_ + layers_; }

@@ -373,7 +373,10 @@ extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points
       s->sample.offer(p, h);
       // Per point, not per batch: where the repeat is seen does not depend
       // on how the caller cut the stream into pushes.
-      if (!s->repeat_mode && s->sample.repeated() && s->have_transform) session::start_repeat_mode(s);
+      if (!s->repeat_mode && s->have_transform &&
+          (s->sample.repeated() || s->bins.copy_refused() || s->floor_bins.copy_refused())) {
+        session::start_repeat_mode(s);
+      }
       if (!s->have_transform) {
         s->warmup[s->warmup_count++] = p;
         if (s->warmup_count == s->cfg.warmup_points) session::establish_transform(s);

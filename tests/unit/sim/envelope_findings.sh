@@ -220,4 +220,15 @@ measure 41 1309
 measure 106 1309
 [ "$status" = PV_ERR_NOT_A_PIT ] && [ "$check" = PV_PIT_CHECK_DOUBLED_FLOOR ] ||
   fail "1309/106 (slip up, scaled grids): $status $check $volume cm3 against $exact"
-echo "envelope findings: 34 cases as expected"
+# A 0.15 m3 bowl-shaped container sent five times over: the floor store,
+# nearly full after the first copy, took the second's first points (copies,
+# and points the first copy had binned under another frame) before the
+# repeat was seen, and halved: half of the floor kept, -0.65 % from the
+# single copy. Now a full bin refuses a point it holds and the repeat mode
+# starts there (fresh seed 1310, looked at for this).
+measure 144 1310
+v5=$volume
+twin=1 measure 144 1310
+awk -v a="$v5" -v b="$volume" 'BEGIN { d = (a - b) / b * 100; if (d < 0) d = -d; exit !(d <= 0.05) }' ||
+  fail "1310/144 (container sent five times over): $v5 cm3 against its single copy's $volume"
+echo "envelope findings: 35 cases as expected"
