@@ -183,7 +183,7 @@ void offer_all(const binning::LayerBins &bins, const levelling::Transform &t, ri
 // the floor store: the tops stopped 22 mm under the rim, the rim plane
 // was fit there and a bulge read -25.5 % with PV_OK, tuning seed 14 #022).
 void sector_tops(const pv_session *s, const levelling::Transform &t, rim::SectorTops *tops) {
-  double sx = 0, sy = 0;
+  double sx = 0, sy = 0, sz = 0;
   uint64_t n = 0;
   const binning::LayerBins &bins = s->bins;
   for (uint32_t b = 0; b < bins.layers(); ++b) {
@@ -191,14 +191,14 @@ void sector_tops(const pv_session *s, const levelling::Transform &t, rim::Sector
       const Eigen::Vector3d v = t.apply(bins.points(b)[i]);
       sx += v.x();
       sy += v.y();
+      sz += v.z();
       ++n;
     }
   }
   bool floor_on_top = false;
-  if (s->floor_layers > 0) {
-    uint64_t nw = 0, nf = 0;
-    const double wall_z = mean_height(bins, t, &nw), floor_z = mean_height(s->floor_bins, t, &nf);
-    floor_on_top = nw > 0 && nf > 0 && floor_z > wall_z;
+  if (s->floor_layers > 0 && n > 0) {
+    uint64_t nf = 0;
+    floor_on_top = mean_height(s->floor_bins, t, &nf) > sz / double(n) && nf > 0;
   }
   if (n == 0) n = 1;
   tops->clear(sx / double(n), sy / double(n));

@@ -100,16 +100,16 @@ void fill_caps(const float *flat_cap, const float *hole, float w, bool vessel, u
   }
 }
 
-}  // namespace
-
-namespace {
-
-// ring[t]: the width of the flat top a cap stands for, from the bin's
-// inner edge out to the cap's edge (HUGE_VALF: no cap).
-void ring_widths(const float *cap, const float *hole, uint32_t T, float *ring) {
+// Whether most capped bins' flat top (from the bin's inner edge out to the
+// cap's edge) is a vessel's lip, kLipMaxWidthMm wide or narrower.
+bool mostly_lip(const float *cap, const float *hole, uint32_t T) {
+  uint32_t rings = 0, lips = 0;
   for (uint32_t t = 0; t < T; ++t) {
-    ring[t] = cap[t] < HUGE_VALF && hole[t] < HUGE_VALF ? cap[t] + float(kLipTolMm) - hole[t] : HUGE_VALF;
+    if (!(cap[t] < HUGE_VALF && hole[t] < HUGE_VALF)) continue;
+    ++rings;
+    lips += cap[t] + float(kLipTolMm) - hole[t] <= float(kLipMaxWidthMm) ? 1 : 0;
   }
+  return rings > 0 && 2 * lips >= rings;
 }
 
 bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
@@ -227,12 +227,13 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
 
 }  // namespace
 
-bool lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
-              float *vessel_cap, float *ring, float *scratch) {
+LipCaps lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
+                 float *vessel_cap, float *scratch) {
   float *hole = nullptr;
-  const bool undecided = caps(src, ws, m, cap, vessel_cap, scratch, &hole);
-  ring_widths(undecided ? vessel_cap : cap, hole, ws.cap.theta_bins, ring);
-  return undecided;
+  LipCaps r;
+  r.undecided = caps(src, ws, m, cap, vessel_cap, scratch, &hole);
+  r.vessel_lip = mostly_lip(r.undecided ? vessel_cap : cap, hole, ws.cap.theta_bins);
+  return r;
 }
 
 }  // namespace pv::surface

@@ -70,11 +70,16 @@ constexpr double kLipMaxWidthSpread = 2.5;
 // a vessel's, cap holds the flat bins only and vessel_cap (theta_bins
 // floats) the whole round as a vessel's (the flat bins' caps carried round):
 // returns true, and the grid decides from the wall below which it is
-// (surface_model.cpp, kOuterWallShare). ring (theta_bins floats): each
-// capped bin's flat top's width, from its inner edge out to the cap's edge
-// (of the vessel's caps where the round is undecided; HUGE_VALF: no cap).
-bool lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
-              float *vessel_cap, float *ring, float *scratch);
+// (surface_model.cpp, kOuterWallShare). vessel_lip: most capped bins'
+// flat top (of the vessel's caps where the round is undecided), from the
+// bin's inner edge out to the cap's edge, is kLipMaxWidthMm wide or
+// narrower (Model::vessel_lip).
+struct LipCaps {
+  bool undecided = false;
+  bool vessel_lip = false;
+};
+LipCaps lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
+                 float *vessel_cap, float *scratch);
 
 }  // namespace pv::surface
 

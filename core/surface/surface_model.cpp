@@ -43,7 +43,7 @@ size_t layout(const Capacity &c, unsigned char *base, Workspace *ws) {
   w.wall_hi = take<float>(base, &off, bins);
   w.floor = take<FloorCell>(base, &off, cells);
   w.slab_top = take<float>(base, &off,
-                           std::max<size_t>(size_t(c.slabs) * kAxisSectors * 2, 3 * size_t(c.theta_bins)));
+                           std::max<size_t>(size_t(c.slabs) * kAxisSectors * 2, 2 * size_t(c.theta_bins)));
   w.ray_floor = take<float>(base, &off, rays);
   w.ray_max = take<float>(base, &off, rays);
   w.lip_cap = w.slab_top;
@@ -1153,9 +1153,10 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   const Geo g = geo_of(ws, *m, p);
   // fill_val (3 x theta_bins x the capacity's z_bins floats) is free until
   // the bridging: the lip's 14 x theta_bins scratch.
-  const bool undecided = lip_caps(src, ws, *m, ws.lip_cap, ws.vessel_cap(), ws.ring_width(), ws.fill_val);
-  GridCtx gc = grid_passes(src, p, ws, *m, g, undecided ? ws.vessel_cap() : nullptr);
-  if (undecided && double(gc.outer_inner) >= kOuterWallShare * double(gc.outer_points) &&
+  const LipCaps lip = lip_caps(src, ws, *m, ws.lip_cap, ws.vessel_cap(), ws.fill_val);
+  m->vessel_lip = lip.vessel_lip;
+  GridCtx gc = grid_passes(src, p, ws, *m, g, lip.undecided ? ws.vessel_cap() : nullptr);
+  if (lip.undecided && double(gc.outer_inner) >= kOuterWallShare * double(gc.outer_points) &&
       gc.outer_points >= kOuterMinPoints) {
     std::copy(ws.vessel_cap(), ws.vessel_cap() + g.T, ws.lip_cap);
     gc = grid_passes(src, p, ws, *m, g, nullptr);
@@ -1555,18 +1556,9 @@ void occupancy_pass(void *c, const Point &q) {
 Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
                     const Params &p, double margin_mm) {
   Occupancy o{};
-  // A vessel's lip (a flat ring up to kLipMaxWidthMm wide) stands over its
-  // outer wall, and where a bin reads that wall the lip lies inside the
-  // wall's top (fresh seed 1309: 4 vessels refused): not around a vessel,
-  // one whose capped bins are mostly a lip's width.
-  uint32_t rings = 0, lips = 0;
-  for (uint32_t t = 0; t < ws.cap.theta_bins; ++t) {
-    const float w = ws.ring_width()[t];
-    rings += w < HUGE_VALF ? 1 : 0;
-    lips += w <= float(kLipMaxWidthMm) ? 1 : 0;
-  }
-  const bool vessel = rings > 0 && 2 * lips >= rings;
-  OccCtx c{&ws, &m, geo_of(ws, m, p), margin_mm, &o, theta_cache(ws), p.rim_guard_mm, !vessel};
+  // Not around a vessel (fresh seed 1309: 4 vessels refused): where a bin
+  // reads its outer wall, its lip lies inside the wall's top.
+  OccCtx c{&ws, &m, geo_of(ws, m, p), margin_mm, &o, theta_cache(ws), p.rim_guard_mm, !m.vessel_lip};
   src.visit(src.ctx, each<occupancy_pass>, &c);
   const size_t bins = size_t(ws.cap.theta_bins) * m.z_bins;
   for (size_t i = 0; i < bins; ++i) {

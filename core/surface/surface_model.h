@@ -139,7 +139,7 @@ struct Workspace {
   float *wall_val;        // R at the bin centre (bridged where unseen)
   float *wall_lo, *wall_hi;  // bridged with the lower / higher neighbour
   FloorCell *floor;       // cells * cells
-  float *slab_top;        // max(slabs * kAxisSectors * 2, 3 * theta_bins): two largest radii
+  float *slab_top;        // max(slabs * kAxisSectors * 2, 2 * theta_bins): two largest radii
   float *ray_floor;       // theta_bins * ray_steps: floor along each ray
   float *ray_max;         // prefix maximum of ray_floor
   // The container lip's cap per theta bin (container_lip.h), for the grid
@@ -151,8 +151,6 @@ struct Workspace {
   // (lip_caps()). A function, not a field: the MCU's session header has no
   // room for a pointer more.
   float *vessel_cap() const { return slab_top + cap.theta_bins; }
-  // And after it, each bin's flat top's width (lip_caps()).
-  float *ring_width() const { return slab_top + 2 * size_t(cap.theta_bins); }
   uint32_t *fill_idx;     // theta_bins * z_bins (bridging rounds)
   float *fill_val;        // max(theta_bins * z_bins * 3, cells * cells)
   uint32_t *queue;        // cells * cells (floor flood)
@@ -182,6 +180,10 @@ struct Axis {
 
 struct Model {
   Axis axis;
+  // Most capped bins' flat top is a vessel's lip (container_lip.h): where
+  // a bin reads the vessel's outer wall, the lip lies inside the wall's top
+  // (Occupancy::over_mouth is not counted).
+  bool vessel_lip;
   double z0_mm;           // bottom of the wall grid
   uint32_t z_bins;        // used (to the rim)
   double rim_mm;
