@@ -1,6 +1,7 @@
 #include "surface/floor_map.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace pv::surface {
 
@@ -156,6 +157,46 @@ void fill_floor(Workspace &ws, const Geo &g, CellBox *box) {
     }
   }
   for (size_t q = 0; q < queued; ++q) ws.floor[ws.queue[q]].value = 0.0f;
+}
+
+FloorWeights start_floor_weights(const Workspace &ws, const Model &m, const Params &p) {
+  const Geo g = geo_of(ws, m, p);
+  float top = -HUGE_VALF;
+  const size_t cells = size_t(g.C) * g.C;
+  for (size_t i = 0; i < cells; ++i) {
+    if (ws.floor[i].state == kFloor) top = std::max(top, ws.floor[i].value);
+  }
+  FloorWeights w;
+  w.z_top = double(top) + p.band_mm + p.slip_mm;
+  return w;
+}
+
+void weigh_floor(const Workspace &ws, const Model &m, const Params &p, const Point *pts, size_t n,
+                 double weight, FloorWeights *acc) {
+  const Geo g = geo_of(ws, m, p);
+  const double far_from = p.band_mm + p.ghost_mm, far_to = p.band_mm + p.slip_mm;
+  for (size_t k = 0; k < n; ++k) {
+    const Point &q = pts[k];
+    if (q.z > acc->z_top) continue;
+    const double fx = g.per_cell.of(q.x - g.fx0), fy = g.per_cell.of(q.y - g.fy0);
+    if (!(fx >= 0 && fy >= 0 && fx < g.C && fy < g.C)) continue;
+    const FloorCell &f = ws.floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
+    if (f.state != kFloor) continue;
+    const double h = q.z - double(f.value);
+    if (std::fabs(h) <= p.band_mm) {
+      acc->floor += weight;
+    } else if (h > far_from && h <= far_to) {
+      acc->far += weight;
+      const auto b = uint32_t(h - far_from);
+      acc->hist[b < kFloorSlipBins ? b : kFloorSlipBins - 1] += weight;
+    }
+  }
+}
+
+double FloorWeights::far_peak() const {
+  double peak = 0;
+  for (uint32_t b = 0; b + 2 < kFloorSlipBins; ++b) peak = std::max(peak, hist[b] + hist[b + 1] + hist[b + 2]);
+  return far > 0 ? peak / far : 0.0;
 }
 
 }  // namespace pv::surface
