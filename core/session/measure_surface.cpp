@@ -170,6 +170,17 @@ double calibrated_unseen_share() {
   pv_config_default(&d);
   return double(d.max_unseen_share);
 }
+// Below it, the bridge's own spread (each unseen bin from its lower or its
+// higher neighbour) holds a gap's wall between the two. Under an overhang
+// it does not: the wall hidden below a neck bulges out past both. Tuning
+// seeds 5-12 and 14 (902 scans measured): with 20-31 % of the volume over
+// unseen wall the interval held the truth in 24 of 36 (the 12 misses all
+// necking pits, 0.9-4.8 % low), their |error| up to 0.19 of the volume
+// over unseen wall; under 20 % it held 95-99 % in every band. So this
+// share of that volume joins the interval, times (share / calibrated)^2:
+// 0.15 at the limit, 0.004 at 5 % unseen. Then 36 of 36 and 96 of 97
+// (10-20 %); the median interval there 1.07 -> 3.16 % and 0.67 -> 1.23 %.
+constexpr double kUnseenRelInterval = 0.15;
 
 // pv_session_estimate() builds the model from every kEstimateStride-th
 // stored point of each bin, so the live figure costs part of finish()'s
@@ -554,6 +565,8 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   // Coarse bins (pv_config_t.surface_coarse_bins): what their few points
   // cannot resolve (surface::Model, sparse_mm3 and subbin_mm3).
   if (p.coarse_bins) interval_mm3 += m.sparse_mm3 + m.subbin_mm3;
+  const double unseen_ramp = std::min(1.0, out->unseen_share / calibrated_unseen_share());
+  interval_mm3 += kUnseenRelInterval * unseen_ramp * unseen_ramp * v.unseen_mm3;
   if (out->unseen_share > calibrated_unseen_share()) interval_mm3 += v.unseen_mm3;
   out->volume_cm3 = v.volume_mm3 / 1000.0;
   out->interval_cm3 = interval_mm3 / 1000.0;
