@@ -5,8 +5,10 @@
 // floor. Without ground around the pit, the top edge of the wall is what
 // defines the lid. Per angular sector around the pit's centre, the top of
 // the wall is the highest point with two more within 3 mm below it (far
-// strays float alone above the rim); a plane through the sector tops, with
-// outliers dropped, is the rim.
+// strays float alone above the rim), of the points whose layer bins are
+// thinned within two levels of the most thinned among those kept (over a
+// dense flat top, multipath keeps the layers above it less thinned); a
+// plane through the sector tops, with outliers dropped, is the rim.
 #ifndef PV_RIM_RIM_PLANE_H
 #define PV_RIM_RIM_PLANE_H
 
@@ -27,10 +29,11 @@ struct SectorTops {
   double cx = 0, cy = 0;             // centre of the sectors
   float z[kRimSectors][kRimTops];    // highest first
   float x[kRimSectors][kRimTops], y[kRimSectors][kRimTops];
+  uint8_t level[kRimSectors][kRimTops];  // the thinning level of each point's bin
   float ceiling[kRimSectors];        // points above it are not offered
                                      // (kNone: a sector dig() left closed)
   void clear(double centre_x, double centre_y);
-  void offer(double px, double py, double pz);
+  void offer(double px, double py, double pz, uint8_t bin_level = 0);
   // Full sectors without a top: ceiling lowered, emptied. Returns whether
   // any was (offer the points again then).
   bool dig();

@@ -171,7 +171,7 @@ void offer_all(const binning::LayerBins &bins, const levelling::Transform &t, ri
   for (uint32_t b = 0; b < bins.layers(); ++b) {
     for (uint32_t i = 0; i < bins.count(b); ++i) {
       const Eigen::Vector3d v = t.apply(bins.points(b)[i]);
-      tops->offer(v.x(), v.y(), v.z());
+      tops->offer(v.x(), v.y(), v.z(), bins.level(b));
     }
   }
 }

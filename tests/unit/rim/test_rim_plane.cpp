@@ -84,6 +84,31 @@ void a_stray_above_the_rim_is_not_a_top(void **) {
   expect_plane(p, lid);
 }
 
+// A vessel's lip scanned long: its dense flat ring fills its layers, which
+// thin (level 4), while multipath floating 0.6-1.8 mm over it keeps the
+// layers above unthinned (level 0). Three such points within 3 mm, over
+// half the round, were the tops there: the plane tilted and raised (fresh
+// seed 1309 #282, +2.7 % from its single pass). Points standing for 16
+// times fewer than the lip's are not its top.
+void multipath_over_a_thinned_lip_is_not_a_top(void **) {
+  Rng r{12};
+  const Lid lid{250.0, 0.004, -0.002};
+  pv::rim::SectorTops t;
+  t.clear(kCx, kCy);
+  for (uint32_t s = 0; s < kRimSectors; ++s) {
+    const double th = (s + 0.2 + 0.6 * r.uniform()) * 2 * kPi / kRimSectors;
+    const double x = kCx + kRadius * std::cos(th), y = kCy + kRadius * std::sin(th);
+    for (int k = 0; k < 8; ++k) t.offer(x, y, lid.at(x, y) - 0.01 * k, 4);
+    if (s < kRimSectors / 2) {
+      for (int k = 1; k <= 3; ++k) t.offer(x, y, lid.at(x, y) + 0.6 * k, 0);
+    }
+  }
+  const pv::rim::RimPlane p = pv::rim::fit_rim_plane(t);
+  assert_true(p.found);
+  assert_int_equal(p.sectors, kRimSectors);
+  expect_plane(p, lid);
+}
+
 // Eight lone strays above the lid in every sector fill all its slots (a
 // long or a large scan): no sector has a top, and no rim. dig() lowers each
 // such sector's ceiling and the points offered again give the lid's tops,
@@ -223,6 +248,7 @@ int main() {
       cmocka_unit_test(eight_strays_per_sector_are_dug_through),
       cmocka_unit_test(unscanned_tops_do_not_tilt_it),
       cmocka_unit_test(a_stray_above_the_rim_is_not_a_top),
+      cmocka_unit_test(multipath_over_a_thinned_lip_is_not_a_top),
       cmocka_unit_test(too_few_sectors_on_a_plane),
       cmocka_unit_test(the_highest_edge_seen_in_a_third_of_the_sectors),
       cmocka_unit_test(a_rim_12_degrees_off_is_found),

@@ -245,4 +245,14 @@ measure 259 1310
 # seed 8).
 sweep_args="--family necking --condition stones" measure 38 8
 [ "$status" = PV_OK ] && inside || fail "8/38 (undercut 27 % unseen): $status $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 37 cases as expected"
+# A bulge vessel scanned 28 passes: multipath over its thinned lip (layers
+# less thinned than the lip's) made the rim plane's tops in half the
+# sectors, the plane 0.6 mm high and tilted: +2.7 % from its single pass.
+# Now +0.67 % from it (the rest: fewer of the lip's bins read flat, open).
+# Fresh seed 1309, looked at for this.
+measure 282 1309
+vlong=$volume
+twin=1 measure 282 1309
+awk -v a="$vlong" -v b="$volume" 'BEGIN { d = (a - b) / b * 100; if (d < 0) d = -d; exit !(d <= 1.0) }' ||
+  fail "1309/282 (vessel scanned 28 passes): $vlong cm3 against its single pass's $volume"
+echo "envelope findings: 38 cases as expected"
