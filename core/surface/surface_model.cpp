@@ -1037,6 +1037,71 @@ void drop_floor_at_wall(Workspace &ws, const Geo &g, const Model &m, const Param
   });
 }
 
+// A stone on the floor hides the floor under it: its cells hold only its
+// top, a step above the floor, and the flood goes round them. Left out of
+// the floor, the floor was carried under it along each ray and the stone
+// counted as void (fresh seed 1310: stones read high by about their own
+// volume, +0.59 % for one of 0.61 %; looked at for this). Points floating
+// over the floor (multipath) do not hide it: their cells flood on the
+// floor's own points. So a run of seen cells the flood did not reach,
+// well inside the wall (a protrusion's top is bounded by the wall grid)
+// and sampled at least as densely as the floor, is a solid: each of its
+// cells bounds the void at its own height (prepare_rays).
+constexpr size_t kMinSolidCells = 4;
+constexpr double kSolidWallMarginMm = 10.0;
+constexpr uint8_t kSolidVisit = 200, kSolidDone = 201;  // states while marking
+
+void mark_solids(Workspace &ws, const Geo &g, const Model &m, const CellBox &box) {
+  const uint32_t C = g.C;
+  size_t nf = 0;  // the floor's median points per cell
+  box.each(C, [&](size_t i, uint32_t, uint32_t) {
+    if (ws.floor[i].state == kFloor) ws.fill_val[nf++] = float(ws.floor[i].n);
+  });
+  if (nf == 0) return;
+  const double floor_n = median_small(ws.fill_val, nf);
+  // Inside the wall at every height from the bottom up to the cell's top:
+  // a protrusion's top has the void under its overhang below it.
+  const auto inside = [&](uint32_t x, uint32_t y, double z) {
+    const double dx = g.fx0 + (x + 0.5) * g.cell - m.axis.cx(z);
+    const double dy = g.fy0 + (y + 0.5) * g.cell - m.axis.cy(z);
+    const double r = std::sqrt(dx * dx + dy * dy) + kSolidWallMarginMm;
+    const uint32_t t = ws.theta->bin(dx, dy);
+    const double top = std::min(double(g.Z - 1), std::max(0.0, (z - g.z0) / g.dz));
+    for (uint32_t k = 0; k <= uint32_t(top); ++k) {
+      if (!(r < double(ws.wall_val[size_t(k) * g.T + t]))) return false;
+    }
+    return true;
+  };
+  box.each(C, [&](size_t i, uint32_t, uint32_t) {
+    if (ws.floor[i].state != kSeen) return;
+    size_t head = 0, tail = 0;
+    ws.queue[tail++] = uint32_t(i);
+    ws.floor[i].state = kSolidVisit;
+    bool solid = true;
+    double n = 0;
+    while (head < tail) {
+      const uint32_t j = ws.queue[head++];
+      const uint32_t x = j % C, y = j / C;
+      n += ws.floor[j].n;
+      if (x == 0 || y == 0 || x + 1 == C || y + 1 == C || !inside(x, y, ws.floor[j].value)) solid = false;
+      for (int d = 0; d < 4; ++d) {
+        const uint32_t xx = x + (d == 0) - (d == 1), yy = y + (d == 2) - (d == 3);
+        if (xx >= C || yy >= C) continue;
+        FloorCell &o = ws.floor[size_t(yy) * C + xx];
+        if (o.state != kSeen) continue;
+        o.state = kSolidVisit;
+        ws.queue[tail++] = uint32_t(size_t(yy) * C + xx);
+      }
+    }
+    solid = solid && tail >= kMinSolidCells && n >= floor_n * double(tail);
+    const uint8_t to = solid ? uint8_t(kSolid) : kSolidDone;
+    for (size_t q = 0; q < tail; ++q) ws.floor[ws.queue[q]].state = to;
+  });
+  box.each(C, [&](size_t i, uint32_t, uint32_t) {
+    if (ws.floor[i].state == kSolidDone) ws.floor[i].state = kSeen;
+  });
+}
+
 // Params::coarse_bins: the value of a seen bin i (read before it replaces
 // the slopes in wall_lo, wall_val and the sub-cell bits in wall_hi), and
 // into m what its few points leave uncertain, as volume: its wedge
@@ -1219,6 +1284,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   if (m->seen_bins - m->rejected_bins < g.T) return Status::NoWall;
   bridge(ws, g, m);
   drop_floor_at_wall(ws, g, *m, p, box);
+  mark_solids(ws, g, *m, box);
   count_ghosts(ws, g, box, p.coarse_bins, p.band_mm, m);
 
   return Status::Ok;
@@ -1361,7 +1427,13 @@ FloorHoles prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
       float h = last;
       if (fx >= 0 && fy >= 0 && fx < g.C && fy < g.C) {
         const FloorCell &f = ws.floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
-        if (f.state == kFloor) {
+        if (f.state == kSolid) {
+          // A solid bounds the void over its own cells only: the floor
+          // around it goes on at the height carried to it, and a hole
+          // (below) does not reach across it.
+          h = std::max(f.value, last);
+          seen_at = -1;
+        } else if (f.state == kFloor) {
           h = last = f.value;
           // A hole between floor seen on both sides: carried flat, it
           // overstates the void on a floor that rises outward (a bowl: a
@@ -1545,7 +1617,7 @@ void occupancy_pass(void *c, const Point &q) {
   double floor_z = 0.0;
   if (fx >= 0 && fy >= 0 && fx < x->g.C && fy < x->g.C) {
     const FloorCell &f = x->ws->floor[size_t(uint32_t(fy)) * x->g.C + uint32_t(fx)];
-    if (f.state == kFloor) floor_z = f.value;
+    if (f.state == kFloor || f.state == kSolid) floor_z = f.value;
   }
   if (q.z < floor_z + x->margin) return;
   ++x->o->inside;

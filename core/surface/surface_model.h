@@ -120,7 +120,8 @@ struct WallBin {
 enum BinState : uint8_t {
   kEmpty = 0, kSeen = 1, kRejected = 2, kBridged = 3,
   kFloor = 4,     // floor cell connected to the lowest floor
-  kFloorBin = 5   // wall bin whose points are floor: filled, bounded by the floor map
+  kFloorBin = 5,  // wall bin whose points are floor: filled, bounded by the floor map
+  kSolid = 6      // floor cell on a solid the flood went round (a stone): its top bounds the void
 };
 
 struct FloorCell {

@@ -255,4 +255,10 @@ vlong=$volume
 twin=1 measure 282 1309
 awk -v a="$vlong" -v b="$volume" 'BEGIN { d = (a - b) / b * 100; if (d < 0) d = -d; exit !(d <= 1.0) }' ||
   fail "1309/282 (vessel scanned 28 passes): $vlong cm3 against its single pass's $volume"
-echo "envelope findings: 38 cases as expected"
+# A 129 L cylinder with a 0.79 L stone on its floor: the flood went round
+# the stone, the floor was carried under it and the stone counted as void,
+# +0.59 % against +/- 0.40 %. Now the stone's top bounds the void (fresh
+# seed 1310, looked at for this).
+measure 138 1310
+[ "$status" = PV_OK ] && inside || fail "1310/138 (stone on the floor): $status $volume +/- $interval cm3 against $exact"
+echo "envelope findings: 39 cases as expected"
