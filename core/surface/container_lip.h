@@ -59,7 +59,8 @@ constexpr uint32_t kLipFillMinBins = 180;  // 2 deg bins or finer
 // that looks flat in a bin or two spans a tenth of a millimetre).
 constexpr double kLipMinFlatShare = 0.05;
 constexpr double kLipMinWidthMm = 1.0;
-// and the tenth widest flat bin at most this many times their median width.
+// and the quarter widest flat bins at most this many times their median
+// width (the 75th percentile).
 constexpr double kLipMaxWidthSpread = 2.5;
 
 // cap[t] for each of the wall grid's theta bins around m.axis: points
