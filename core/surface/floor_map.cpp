@@ -193,10 +193,6 @@ void weigh_floor(const Workspace &ws, const Model &m, const Params &p, const Poi
   }
 }
 
-double FloorWeights::far_peak() const {
-  double peak = 0;
-  for (uint32_t b = 0; b + 2 < kFloorSlipBins; ++b) peak = std::max(peak, hist[b] + hist[b + 1] + hist[b + 2]);
-  return far > 0 ? peak / far : 0.0;
-}
+double FloorWeights::far_peak() const { return densest_three_share(hist, kFloorSlipBins); }
 
 }  // namespace pv::surface

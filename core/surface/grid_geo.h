@@ -35,6 +35,17 @@ inline double median_small(float *v, size_t n) {
   return 0.5 * (double(below) + double(v[n / 2]));
 }
 
+// The share of a height histogram's total within its densest 3 bins (0 if
+// empty): a second floor lies at one height (Model::floor_far_peak,
+// FloorWeights::far_peak).
+template <class T>
+double densest_three_share(const T *h, uint32_t n) {
+  double all = 0, peak = 0;
+  for (uint32_t b = 0; b < n; ++b) all += double(h[b]);
+  for (uint32_t b = 0; b + 2 < n; ++b) peak = std::max(peak, double(h[b]) + double(h[b + 1]) + double(h[b + 2]));
+  return all > 0 ? peak / all : 0.0;
+}
+
 }  // namespace pv::surface
 
 #endif

@@ -253,9 +253,9 @@ constexpr double kInnerWallGapMm = 3.0;  // deeper than a texture's grooves (2-4
 constexpr double kOuterWallShare = 0.17;
 constexpr uint64_t kOuterMinPoints = 500;
 
-// Bins of the far points' height histogram (GridCtx::far_hist): 1 mm from
-// the ghost window's top to Params::slip_mm's, the last taking the rest.
-constexpr uint32_t kFarHistBins = 40;
+// The far points' height histogram (GridCtx::far_hist): 1 mm bins from
+// the ghost window's top to Params::slip_mm's (kFloorSlipBins, the last
+// taking the rest).
 
 struct GridCtx {
   Geo g;
@@ -269,7 +269,7 @@ struct GridCtx {
   double slip = 0;   // pass 2: Params::slip_mm (floor cells only)
   // pass 2: the far points' heights above their cell's floor, 1 mm bins
   // from the ghost window's top (Model::floor_far_peak)
-  uint32_t far_hist[kFarHistBins] = {};
+  uint32_t far_hist[kFloorSlipBins] = {};
   double ghost = 0;  // pass 2: Params::ghost_mm, the window behind a bin's band, above a cell's
   const float *lip_cap = nullptr;  // per theta bin: beyond it, outside a container (container_lip.h)
   // pass 2, where lip_caps() left the round undecided: the caps of the
@@ -360,7 +360,7 @@ void grid_batch(void *c, const Point *pts, size_t count) {
           f.n_far = uint16_t(f.n_far + (far && f.n_far < UINT16_MAX ? 1 : 0));
           if (far) {
             const auto hb = uint32_t(double(z) - double(near_min(f)) - ghost_top);
-            ++x->far_hist[hb < kFarHistBins ? hb : kFarHistBins - 1];
+            ++x->far_hist[hb < kFloorSlipBins ? hb : kFloorSlipBins - 1];
           }
         }
       }
@@ -1230,12 +1230,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
   {
     // A slipped copy's floor lies at one height; an overhanging wall's
     // foot and multipath spread over the window.
-    uint64_t all = 0, peak = 0;
-    for (uint32_t b = 0; b < kFarHistBins; ++b) all += gc.far_hist[b];
-    for (uint32_t b = 0; b + 2 < kFarHistBins; ++b) {
-      peak = std::max<uint64_t>(peak, uint64_t(gc.far_hist[b]) + gc.far_hist[b + 1] + gc.far_hist[b + 2]);
-    }
-    m->floor_far_peak = all > 0 ? double(peak) / double(all) : 0.0;
+    m->floor_far_peak = densest_three_share(gc.far_hist, kFloorSlipBins);
   }
 
   CellBox box;  // the cells that are not empty, from here on

@@ -334,7 +334,7 @@ Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
 // cells away from the wall's foot (the cells' states after build()):
 // within Params::band_mm of a cell's floor (floor), and from band + ghost_mm
 // to band + slip_mm above it (far, in 1 mm height bins from the window's
-// bottom: hist).
+// bottom: hist; the same bins as the model's own far histogram).
 constexpr uint32_t kFloorSlipBins = 32;
 struct FloorWeights {
   double floor = 0, far = 0;
