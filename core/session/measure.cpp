@@ -247,7 +247,7 @@ void layer_coverage(const pv_session *s, double rim_mm, pv_result_t *out) {
 
 }  // namespace
 
-static pv_status_t measure_stored(pv_session *s, pv_result_t *out) {
+static pv_status_t measure_stored(pv_session *s, pv_result_t *out, levelling::Transform *frame) {
   std::memset(out, 0, sizeof *out);
   establish_transform(s);
   out->points_in = s->points_in;
@@ -262,7 +262,7 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out) {
   };
   if (s->points_in - s->points_invalid < kMinPoints) return fail(PV_ERR_TOO_FEW_POINTS);
 
-  levelling::Transform t;
+  levelling::Transform &t = *frame;
   const pv_status_t st = final_transform(s, &t);
   if (st != PV_OK) return fail(st);
   out->tilt_deg = t.tilt_deg();
@@ -404,6 +404,25 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out) {
   return PV_OK;
 }
 
+// Whether the top of the grid the points were last binned with runs
+// across the pit's top (its up within 45 deg of the pit's) or down its
+// side. Only a cap can pass for the rim: a pit deeper than the grid then
+// reads the cut as its rim. A cut down the side takes wall, which the
+// surface model counts as unseen (bridged within the interval, or
+// refused WALL_GAP), at its true height. The warm-up frame of a wide pit
+// without ground can lie on its wall: a 1 m tapered pit 662 mm deep was
+// binned 81 deg off from 524k points on, a 1.2 m container 85 deg off,
+// and the far wall beyond that frame's top (1.3 %, 9 % of their points)
+// refused them for a depth they do not have; both measure inside their
+// intervals.
+constexpr double kCapCos = 0.70710678118654752;  // cos 45 deg
+static bool grid_caps_the_pit(const gridding::LayerMap &m, const levelling::Transform &t) {
+  const double n2 = m.a * m.a + m.b * m.b + m.c * m.c;
+  const double up = m.a * t.R(2, 0) + m.b * t.R(2, 1) + m.c * t.R(2, 2);
+  // up / sqrt(n2) >= cos 45, without a square root.
+  return up > 0.0 && up * up >= kCapCos * kCapCos * n2;
+}
+
 // A pit deeper than the grid loses its top at push: the rim then found
 // is the cut (a rounded bowl 923 mm deep, levelled 7 deg off, read -9 %
 // with PV_OK: 0.48 % of its points above the grid). Far strays put at most
@@ -413,9 +432,11 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out) {
 // against what would be a volume only: a cloud that is no pit says so
 // first.
 pv_status_t measure(pv_session *s, pv_result_t *out) {
-  const pv_status_t st = measure_stored(s, out);
+  levelling::Transform t;
+  const pv_status_t st = measure_stored(s, out, &t);
   const uint64_t binned = s->points_accepted - s->points_before_frame;
   if (st != PV_OK || s->points_above_range * 1000 <= binned * kMaxAbovePerMille) return st;
+  if (!grid_caps_the_pit(s->provisional_map, t)) return st;
   out->volume_cm3 = out->interval_cm3 = 0.0;
   out->status = PV_ERR_DEPTH_EXCEEDS_CAPACITY;
   return out->status;
