@@ -269,4 +269,12 @@ measure 138 1310
 # it caps the pit (fresh seed 1311, looked at for this).
 measure 278 1311
 [ "$status" = PV_OK ] && inside || fail "1311/278 (provisional frame on the wall): $status $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 40 cases as expected"
+# A necking container scanned once: a band all round under its neck
+# unseen (24 % of the volume), the fill from above carrying the neck's
+# radius down where the wall bulges back out: -8.3 % PV_OK against an
+# interval of +/- 4.2 % (fresh seed 1312, the 1x twin of a slipped scan;
+# looked at for this). The wall under an overhang reaches the seen wall
+# below it in the interval.
+sweep_args="--family necking --condition slip_lateral" twin=1 measure 165 1312
+[ "$status" = PV_OK ] && inside || fail "1312/165 1x (under a neck): $status $volume +/- $interval cm3 against $exact"
+echo "envelope findings: 41 cases as expected"
