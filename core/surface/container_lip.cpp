@@ -71,7 +71,7 @@ uint32_t around(uint32_t t, int d, uint32_t T) {
 // Caps for the bins that are not flat (flat_cap: the flat bins' caps, the
 // others HUGE_VALF) into out, from each bin's inner edge and the flat
 // bins' median width w.
-void fill_caps(const float *flat_cap, const float *hole, float w, bool vessel, uint32_t T,
+void fill_caps(const float *flat_cap, const float *hole, float w, bool vessel, bool far, uint32_t T,
                float *out) {
   // A vessel's lip (a flat ring a few mm wide) runs on round it: between
   // flat bins its outer edge is taken from them (linear in angle, within
@@ -79,18 +79,31 @@ void fill_caps(const float *flat_cap, const float *hole, float w, bool vessel, u
   // its top band, fails where a lip seen from far leaves a bin a few points,
   // all near the outer edge: capped from there, the outer wall under it
   // counted as pit (tuning seed 1 #222, 6-23 top band points a bin: +4.4 %).
+  // With far (the round as a vessel's where under half of it is flat, kept
+  // only where the wall below shows an outer wall: surface_model.cpp,
+  // kOuterWallShare), a bin without a single top band point (the lip out
+  // of the path's view) takes the cap from the flat bins either side however
+  // far: nothing in it says the vessel ends there. Left uncapped, a 960 mm
+  // tapered vessel read its outer wall, up to 93 mm behind the inner wall,
+  // over 66 deg where the scan saw neither the lip nor the inner wall's top
+  // (fresh seed 1312 #128, looked at for this: +1.31 % against +/- 0.42 %).
+  // Not where most of the round is flat: there a ground ring seen narrow
+  // (a sparse scan) passes for a lip, and capped across 30 deg or more a
+  // protrusion pit's wall was cut (tuning seed 1311 #258: -0.18 -> -1.72 %).
   // A ground ring is no such ring: its outer edge is where the scan stopped,
   // and carried into a bin across an elliptical pit's wall it cut the wall
   // (seed 1 #149: -1.1 %); there the bin keeps its own inner edge.
   const int fill_reach = int(std::ceil(kLipFillReachDeg / 360.0 * double(T)));
   for (uint32_t t = 0; t < T; ++t) {
     out[t] = flat_cap[t];
-    if (flat_cap[t] < HUGE_VALF || !(hole[t] < HUGE_VALF)) continue;
-    out[t] = hole[t] + w - float(kLipTolMm);
+    const bool own = hole[t] < HUGE_VALF;
+    if (flat_cap[t] < HUGE_VALF || !(own || far)) continue;
+    if (own) out[t] = hole[t] + w - float(kLipTolMm);
     if (!vessel) continue;
+    const int reach = own ? fill_reach : int(T / 2);
     int dl = 0, dr = 0;
-    for (int d = 1; d <= fill_reach && dl == 0; ++d) dl = flat_cap[around(t, -d, T)] < HUGE_VALF ? d : 0;
-    for (int d = 1; d <= fill_reach && dr == 0; ++d) dr = flat_cap[around(t, d, T)] < HUGE_VALF ? d : 0;
+    for (int d = 1; d <= reach && dl == 0; ++d) dl = flat_cap[around(t, -d, T)] < HUGE_VALF ? d : 0;
+    for (int d = 1; d <= reach && dr == 0; ++d) dr = flat_cap[around(t, d, T)] < HUGE_VALF ? d : 0;
     const float cl = dl ? flat_cap[around(t, -dl, T)] : 0.0f, cr = dr ? flat_cap[around(t, dr, T)] : 0.0f;
     if (dl && dr) {
       out[t] = (cl * float(dr) + cr * float(dl)) / float(dl + dr);
@@ -200,7 +213,7 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
   float *const flat_cap = x.e2;  // the second largest radii are spent too
   for (uint32_t t = 0; t < T; ++t) flat_cap[t] = cap[t];
   if (2 * flat >= known) {
-    fill_caps(flat_cap, hole, w, vessel, T, cap);
+    fill_caps(flat_cap, hole, w, vessel, false, T, cap);
     return false;
   }
   // Under half of the round flat: a vessel whose lip the scan saw from far
@@ -218,7 +231,7 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
   // -0.08 % (fresh seed 1309 #282, looked at for this).
   std::nth_element(width + flat / 2, width + flat * 3 / 4, width + flat);
   if (width[flat * 3 / 4] > float(kLipMaxWidthSpread) * w) return false;
-  fill_caps(flat_cap, hole, w, true, T, vessel_cap);
+  fill_caps(flat_cap, hole, w, true, true, T, vessel_cap);
   // A flat bin whose ring reads narrower than the median saw part of the
   // lip (its outer edge the inner wall's top, a texture's bump): capped
   // there, the grooves below it were cut (tuning seed 5 #182, a grooved
