@@ -72,10 +72,11 @@ double log_uniform(Rng &r, double lo, double hi) { return lo * pow_unit(hi / lo,
 // Millimetres quantised to 1/1024 mm (as the families' draws are).
 double q(double x) { return std::round(x * 1024.0) / 1024.0; }
 
-// A family's nominal size as drawn (radius, depth) and the smallest radius
-// its floor can have at that size (0: no flat floor).
+// A family's nominal size as drawn (radius, depth), the smallest radius
+// its floor can have at that size (0: no flat floor), and its deepest draw
+// where that is far from the nominal (0: within 4 % of it).
 struct Nominal {
-  double radius, depth, floor_radius;
+  double radius, depth, floor_radius, deepest = 0.0;
 };
 
 Nominal nominal(Family f) {
@@ -88,7 +89,7 @@ Nominal nominal(Family f) {
     case Family::HandDug: return {110, 280, 90};
     case Family::ShallowWide: return {200, 100, 195};
     case Family::DeepNarrow: return {75, 400, 72};
-    case Family::RoundedBowl: return {110, 200, 0};
+    case Family::RoundedBowl: return {110, 200, 0, 250};
     default: return {110, 290, 105};  // cylinder, protrusions, bulge
   }
 }
@@ -220,7 +221,11 @@ bool draw_envelope_case(uint64_t seed, uint32_t index, const SweepFilter &filter
     double R = 200.0;
     for (int i = 0; i < 100; ++i) R = (2.0 * R + a / (R * R)) / 3.0;
     R = std::clamp(R, 50.0, 750.0);
-    const double depth = std::clamp(v_mm3 / (kPi * R * R), 80.0, 800.0);
+    // The deepest draw of a family stays within 800 mm (rounded bowls are
+    // drawn 150-250 mm deep about their 200: scaled to 800 one reached
+    // 986 mm, past the 960 mm pitvol measures, fresh seed 1311 #234).
+    const double deepest = nom.deepest > 0.0 ? 800.0 * nom.depth / nom.deepest : 800.0;
+    const double depth = std::clamp(v_mm3 / (kPi * R * R), 80.0, deepest);
     c.target_radius_mm = R;
     c.target_depth_mm = depth;
     c.pit.scale_xy = R / nom.radius;

@@ -548,6 +548,30 @@ void test_sweep_draws(void **) {
   assert_int_equal(families.size(), static_cast<size_t>(Family::kCount));
   assert_int_equal(sizes.size(), 4);
   assert_int_equal(surrounds.size(), 3);
+  // The deepest a family draws stays within 800 mm: rounded bowls are
+  // drawn 150-250 mm about their nominal 200 (one reached 986 mm, past the
+  // 960 mm pitvol measures). The five deepest of 400 draws, built.
+  {
+    pv::sim::SweepFilter rb;
+    rb.family = "rounded_bowl";
+    std::vector<EnvelopeCase> all;
+    std::string err;
+    for (uint32_t i = 0; i < 400; ++i) {
+      EnvelopeCase c;
+      assert_true(pv::sim::draw_envelope_case(1, i, rb, &c, &err));
+      all.push_back(c);
+    }
+    std::sort(all.begin(), all.end(), [](const EnvelopeCase &a, const EnvelopeCase &b) {
+      return a.target_depth_mm > b.target_depth_mm;
+    });
+    for (size_t k = 0; k < 5; ++k) {
+      const EnvelopeCase &c = all[k];
+      const Pit p = pv::sim::make_pit(c.family, c.ground, c.pit_seed, c.pit);
+      print_message("rounded bowl %s: target %.1f mm, built %.1f mm\n", c.name.c_str(),
+                    c.target_depth_mm, p.rim_z_mm);
+      assert_true(c.target_depth_mm > 500 && p.rim_z_mm <= 800.0);
+    }
+  }
   // Another seed, other cases; unknown filters refused.
   EnvelopeCase x, y;
   std::string err;
