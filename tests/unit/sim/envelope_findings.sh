@@ -113,9 +113,12 @@ measure 276 1302
 [ "$status" = PV_OK ] && within 0.3 || fail "1302/276 (ground under strays): $status $volume cm3 against $exact"
 # A sparse 250 L rounded bowl without surround: no opening found from
 # either start, the floor plane's frame (a tangent 9 deg off) and the
-# wall's top read +28.5 % with PV_OK (seed 1302). No opening, no lid.
+# wall's top read +28.5 % with PV_OK (seed 1302). No opening, no lid:
+# refused NO_RIM, or levelled on an opening the turned starts agree on
+# and inside its interval (-0.21 % +/- 0.64 %).
 measure 69 1302
-[ "$status" = PV_ERR_NO_RIM ] || fail "1302/69 (no opening found): $status $volume cm3 against $exact"
+[ "$status" = PV_ERR_NO_RIM ] || { [ "$status" = PV_OK ] && inside; } ||
+  fail "1302/69 (no opening found): $status $volume +/- $interval cm3 against $exact"
 # A shallow wide pit whose ground ring holds under a quarter of the top
 # band (20 % of the depth down the wall): levelled on its support plane,
 # +0.27 %; the ground found in the narrow band reads -0.05 % (tuning seed 1).
@@ -283,4 +286,10 @@ sweep_args="--family necking --condition slip_lateral" twin=1 measure 165 1312
 # against +/- 0.42 % (fresh seed 1312, looked at for this).
 sweep_args="--family tapered --condition nominal" measure 128 1312
 [ "$status" = PV_OK ] && inside || fail "1312/128 (vessel's lip unseen over 66 deg): $status $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 42 cases as expected"
+# A 0.06 m3 shallow pit with ground scanned 42 deg off: neither the floor
+# fit nor the scanner's axis found its opening (NO_RIM); from the axis
+# turned 30 and 50 deg the ground most starts agree on (tuning seed 1311,
+# looked at for this).
+sweep_args="--family shallow_wide --condition tilted" measure 37 1311
+[ "$status" = PV_OK ] && inside || fail "1311/037 (held 42 deg off): $status $volume +/- $interval cm3 against $exact"
+echo "envelope findings: 43 cases as expected"
