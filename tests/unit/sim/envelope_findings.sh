@@ -292,4 +292,10 @@ sweep_args="--family tapered --condition nominal" measure 128 1312
 # looked at for this).
 sweep_args="--family shallow_wide --condition tilted" measure 37 1311
 [ "$status" = PV_OK ] && inside || fail "1311/037 (held 42 deg off): $status $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 43 cases as expected"
+# A sparse rounded bowl with ground whose bottom 60 mm went unseen: the
+# fill carried the lowest seen radius down to the bottom, +1.92 % against
+# +/- 1.0 % (tuning seed 1311, looked at for this); the interval's low
+# spread follows the seen wall's narrowing down.
+sweep_args="--family rounded_bowl --condition sparse" measure 59 1311
+[ "$status" = PV_OK ] && inside || fail "1311/059 (bottom unseen): $status $volume +/- $interval cm3 against $exact"
+echo "envelope findings: 44 cases as expected"
