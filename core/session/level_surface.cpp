@@ -11,6 +11,7 @@
 // deg about itself the last (level_from_turned_axis).
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include <Eigen/Geometry>
 
@@ -39,6 +40,10 @@ constexpr double kSupportMaxTiltDeg = 30.0;
 // tuning seed 1300 #067, check seed 1301 #102 and #271, 66-112 deg off
 // 16-22 deg scans). Those are levelled from the scanner's axis instead.
 constexpr double kMinSidewaysTiltDeg = 60.0;
+bool faces_sideways(const levelling::Transform &f) {
+  const double tilt = f.tilt_deg();
+  return tilt > kMinSidewaysTiltDeg && tilt < 180.0 - kMinSidewaysTiltDeg;
+}
 
 // Rotation taking unit vector n onto +Z (Rodrigues), applied after t.
 void rotate_onto_z(const Eigen::Vector3d &n, levelling::Transform *t) {
@@ -301,25 +306,35 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, Opening *o) {
 // held 42-60 deg off: the floor fit and the scanner's axis both too far
 // from the opening for the rim plane and the support plane, which looks
 // 30 deg around its start), the scanner's axis turned 30, then 50 deg
-// towards each of 8 directions is a start. Starts far from the opening find planes through the wall
-// or the floor's edge as well (fresh seed 1311 #037, held 42 deg off: a
-// ground at 41.4-41.6 deg from three starts, others at 49-67 deg, one
-// each); the opening is the one most starts agree on (up within
-// kAgreeCos), grounds before other planes (the ground is the strictest
-// plane, as in level_on_opening), never one facing sideways.
+// towards each of 8 directions is a start. Starts far from the opening
+// find planes through the wall or the floor's edge as well (fresh seed
+// 1311 #037, held 42 deg off: a ground at 41.4-41.6 deg from three
+// starts, others at 49-67 deg, one each); the opening is the one most
+// starts agree on (up within kAgreeCos), grounds before other planes (the
+// ground is the strictest plane, as in level_on_opening), never one
+// facing sideways.
+// cos and sin of the turns and the directions as constants, not libm (its
+// bits differ between targets).
 constexpr double kTurnCosSin[][2] = {{0.86602540378443865, 0.5}, {0.64278760968653933, 0.76604444311897804}};
 constexpr double kR = 0.70710678118654752;
-// cos and sin as constants, not libm (its bits differ between targets).
 constexpr double kDirCosSin[][2] = {{1, 0}, {kR, kR}, {0, 1}, {-kR, kR}, {-1, 0}, {-kR, -kR}, {0, -1}, {kR, -kR}};
-constexpr int kStarts = 16;
+constexpr size_t kStarts = std::size(kTurnCosSin) * std::size(kDirCosSin);
 constexpr double kAgreeCos = 0.99862953475457387;  // cos 3 deg
 constexpr int kMinVotes = 2;
+
+// Levelled on the ground (level_on_ground, also after a turn), not on a
+// rim or support plane, which set the rim height.
+bool on_ground(const Opening &o) { return !(o.rim_mm > 0); }
+
+// Whether two frames' ups agree (the third row of R: the up in the
+// scanner's frame).
+bool agree(const levelling::Transform &a, const levelling::Transform &b) {
+  return a.R.row(2).dot(b.R.row(2)) >= kAgreeCos;
+}
 
 struct Candidate {
   levelling::Transform t;
   Opening o;
-  Eigen::Vector3d up;  // the frame's up, in the scanner's frame
-  bool ground;
 };
 
 // up: the scanner's axis, the way the upright start took it.
@@ -327,7 +342,7 @@ Opening level_from_turned_axis(pv_session *s, const levelling::Transform &start,
                                const Eigen::Vector3d &up, levelling::Transform *t) {
   const Eigen::Vector3d a = up.unitOrthogonal(), b = up.cross(a);
   Candidate c[kStarts];
-  int n = 0;
+  size_t n = 0;
   bool any_ground = false;
   for (const auto &turn : kTurnCosSin) {
     for (const auto &dir : kDirCosSin) {
@@ -335,20 +350,18 @@ Opening level_from_turned_axis(pv_session *s, const levelling::Transform &start,
       Candidate &k = c[n];
       k.t = start;
       rotate_onto_z(axis, &k.t);
-      if (!level_on_opening(s, &k.t, &k.o)) continue;
-      const double tilt = k.t.tilt_deg();
-      if (tilt > kMinSidewaysTiltDeg && tilt < 180.0 - kMinSidewaysTiltDeg) continue;
-      k.up = k.t.R.row(2).transpose();
-      k.ground = !(k.o.rim_mm > 0);
-      any_ground = any_ground || k.ground;
+      if (!level_on_opening(s, &k.t, &k.o) || faces_sideways(k.t)) continue;
+      any_ground = any_ground || on_ground(k.o);
       ++n;
     }
   }
-  int best = -1, best_votes = 0;
-  for (int i = 0; i < n; ++i) {
-    if (any_ground && !c[i].ground) continue;
+  size_t best = n;
+  int best_votes = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const bool ground = on_ground(c[i].o);
+    if (any_ground && !ground) continue;
     int votes = 0;
-    for (int j = 0; j < n; ++j) votes += (c[j].ground == c[i].ground && c[i].up.dot(c[j].up) >= kAgreeCos) ? 1 : 0;
+    for (size_t j = 0; j < n; ++j) votes += (on_ground(c[j].o) == ground && agree(c[i].t, c[j].t)) ? 1 : 0;
     if (votes > best_votes) {
       best = i;
       best_votes = votes;
@@ -357,16 +370,13 @@ Opening level_from_turned_axis(pv_session *s, const levelling::Transform &start,
   // One start alone is no agreement: a 2 deg scan of a deep bowl whose
   // ground the path missed found one plane, 37 deg off (seed 1311 #186),
   // and the checks refused it as not a pit; NO_RIM says why.
-  if (best < 0 || best_votes < kMinVotes) return Opening{};
+  if (best == n || best_votes < kMinVotes) return Opening{};
   Candidate &k = c[best];
   // Once more from the chosen frame: a start 30 deg off finds the plane
   // roughly (#037: its ground 1.3 mm off, +0.85 % against +/- 0.57 %);
   // from within a degree of it, the plane itself (-0.03 %).
   Candidate r = k;
-  if (level_on_opening(s, &r.t, &r.o) && !(r.o.rim_mm > 0) == k.ground &&
-      r.t.R.row(2).dot(k.t.R.row(2)) >= kAgreeCos) {
-    k = r;
-  }
+  if (level_on_opening(s, &r.t, &r.o) && on_ground(r.o) == on_ground(k.o) && agree(r.t, k.t)) k = r;
   bottom_to_zero(bottom_mm(s, k.t), &k.t, &k.o);
   *t = k.t;
   k.o.found = true;
@@ -379,10 +389,7 @@ Opening level_for_surface(pv_session *s, levelling::Transform *t) {
   Opening o;
   levelling::Transform from_floor = *t;
   const bool floor_found = level_on_opening(s, &from_floor, &o);
-  const auto sideways = [](const levelling::Transform &f) {
-    return f.tilt_deg() > kMinSidewaysTiltDeg && f.tilt_deg() < 180.0 - kMinSidewaysTiltDeg;
-  };
-  if (floor_found && !sideways(from_floor)) {
+  if (floor_found && !faces_sideways(from_floor)) {
     const double bottom = bottom_mm(s, from_floor);
     if (bottom > kFloatingBottomMm) bottom_to_zero(bottom, &from_floor, &o);
     *t = from_floor;
@@ -402,7 +409,7 @@ Opening level_for_surface(pv_session *s, levelling::Transform *t) {
   const Eigen::Vector3d up = (scanner_up || scanner_z.z() >= 0) ? scanner_z : Eigen::Vector3d(-scanner_z);
   rotate_onto_z(up, &upright);
   Opening from_upright;
-  if (!level_on_opening(s, &upright, &from_upright) || (floor_found && sideways(upright))) {
+  if (!level_on_opening(s, &upright, &from_upright) || (floor_found && faces_sideways(upright))) {
     const Opening turned = level_from_turned_axis(s, start, up, t);
     if (turned.found) return turned;
     if (!floor_found) return Opening{};

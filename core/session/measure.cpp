@@ -409,12 +409,12 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out, levelling::Tr
 // side. Only a cap can pass for the rim: a pit deeper than the grid then
 // reads the cut as its rim. A cut down the side takes wall, which the
 // surface model counts as unseen (bridged within the interval, or
-// refused WALL_GAP), at its true height. The last provisional frame of a wide pit
-// without ground can lie on its wall: a 1 m tapered pit 662 mm deep was
-// binned 81 deg off from 524k points on, a 1.2 m container 85 deg off,
-// and the far wall beyond that frame's top (1.3 %, 9 % of their points)
-// refused them for a depth they do not have; both measure inside their
-// intervals.
+// refused WALL_GAP), at its true height. The last provisional frame of a
+// wide pit without ground can lie on its wall: a 1 m tapered pit 662 mm
+// deep was binned 81 deg off from 524k points on, a 1.2 m container 85
+// deg off, and the far wall beyond that frame's top (1.3 %, 9 % of their
+// points) refused them for a depth they do not have; both measure inside
+// their intervals.
 constexpr double kCapCos = 0.70710678118654752;  // cos 45 deg
 static bool grid_caps_the_pit(const gridding::LayerMap &m, const levelling::Transform &t) {
   const double n2 = m.a * m.a + m.b * m.b + m.c * m.c;
