@@ -1041,10 +1041,24 @@ void bridge(Workspace &ws, const Geo &g, Model *m) {
   for (size_t q = 0; q < queued; ++q) ws.wall[cand[q]].gap = 0;
   spread_under_overhangs(ws, g);
   spread_below_lowest_seen(ws, g);
-  for (size_t i = 0; i < bins; ++i) {
-    if (!floor_bin[i]) continue;
-    ws.wall[i].state = kFloorBin;
-    ws.wall_lo[i] = ws.wall_hi[i] = ws.wall_val[i];
+  for (uint32_t t = 0; t < g.T; ++t) {
+    // The floor map bounds the void in a floor bin as far out as the wall
+    // above it reaches: filled from a seen bin of the bottom's own slope
+    // below them (few stored points per floor cell leave some bins there
+    // short of floor points), the floor bins cut the floor up the slope at
+    // that bin's radius (a bowl scanned ten times over read 0.5 % below its
+    // single scan).
+    float above = -1.0f;
+    for (uint32_t z = g.Z; z-- > 0;) {
+      const size_t i = size_t(z) * g.T + t;
+      if (!floor_bin[i]) {
+        if (ws.wall[i].state == kSeen || ws.wall[i].state == kBridged) above = ws.wall_val[i];
+        continue;
+      }
+      ws.wall[i].state = kFloorBin;
+      ws.wall_val[i] = std::max(ws.wall_val[i], above);
+      ws.wall_lo[i] = ws.wall_hi[i] = ws.wall_val[i];
+    }
   }
 }
 
