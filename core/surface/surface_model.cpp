@@ -1671,6 +1671,21 @@ void mouth_point(OccCtx *x, const Point &q) {
   x->o->over_mouth += r < top - kMouthMarginMm ? 1 : 0;
 }
 
+// A point near the rim's height (Occupancy::wall_above, wall_below): above
+// the rim against the wall's top bin under the grid's guard, below it
+// against the wall at its own height.
+void wall_band_point(OccCtx *x, const Point &q) {
+  const Model &m = *x->m;
+  const double dx = q.x - m.axis.cx(q.z), dy = q.y - m.axis.cy(q.z);
+  const uint32_t t = x->ws->theta->bin(dx, dy);
+  const double r = std::sqrt(dx * dx + dy * dy);
+  const bool above = q.z > m.rim_mm;
+  const double z_wall = above ? m.rim_mm - x->guard - 0.5 * x->g.dz : q.z;
+  if (!(std::fabs(r - radius_at(x->ws->wall_val, x->g, t, z_wall)) <= kWallBandRadiusMm)) return;
+  const uint32_t k = t * kRimSectors / x->g.T;
+  ++(above ? x->o->wall_above : x->o->wall_below)[k];
+}
+
 void occupancy_pass(void *c, const Point &q) {
   auto *x = static_cast<OccCtx *>(c);
   const Model &m = *x->m;
@@ -1678,6 +1693,8 @@ void occupancy_pass(void *c, const Point &q) {
   const double above = q.z - (m.rim_mm - kRimHistBelowMm);
   if (above >= 0 && above < double(kRimHistBins)) surround_point(x, q, above);
   if (x->mouth && std::fabs(q.z - m.rim_mm) <= kMouthBandMm) mouth_point(x, q);
+  const double off_rim = std::fabs(q.z - m.rim_mm);
+  if (off_rim > kWallBandFromMm && off_rim < kWallBandToMm) wall_band_point(x, q);
   if (q.z >= m.rim_mm || q.z < m.z0_mm) return;
   ++x->o->points;
   if (q.z > m.rim_mm - x->margin) return;
@@ -1709,6 +1726,17 @@ Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
     if (ws.wall[i].state == kSeen) o.max_radius_mm = std::max(o.max_radius_mm, double(ws.wall_val[i]));
   }
   return o;
+}
+
+uint32_t wall_above_sectors(const Occupancy &o) {
+  uint32_t n = 0;
+  for (uint32_t k = 0; k < kRimSectors; ++k) {
+    n += o.wall_above[k] >= kMinWallAbovePoints &&
+                 double(o.wall_above[k]) >= kMinWallAboveShare * double(o.wall_below[k])
+             ? 1
+             : 0;
+  }
+  return n;
 }
 
 namespace {
