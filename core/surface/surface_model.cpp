@@ -278,6 +278,9 @@ struct GridCtx {
   // (kOuterWallShare)
   const float *vessel_cap = nullptr;
   uint64_t outer_points = 0, outer_inner = 0;
+  // pass 2, fine bins only: per bin, the sum and the sum of squares of the
+  // ghost points' depths behind the band (drop_spread_ghosts())
+  float *ghost_sum = nullptr, *ghost_sq = nullptr;
 };
 
 // Pass 3: a wall bin's surface points that lie on the floor map's floor
@@ -327,6 +330,7 @@ void grid_batch(void *c, const Point *pts, size_t count) {
   const Axis axis = x->m->axis;
   const double rim = x->m->rim_mm, wall_top = x->wall_top, band = x->band;
   const double ghost = x->ghost, ghost_top = band + ghost, slip_top = band + x->slip;
+  float *const ghost_sum = x->ghost_sum, *const ghost_sq = x->ghost_sq;
   const double C = g.C, Z = g.Z;
   WallBin *const wall = x->ws->wall;
   FloorCell *const floor = x->ws->floor;
@@ -395,7 +399,14 @@ void grid_batch(void *c, const Point *pts, size_t count) {
       offer_top(&b.top1, &b.top2, r);
     } else if (r < near_max(b) - b.band) {
       // Behind the band: a second copy of the wall, multipath or texture.
-      if (r >= near_max(b) - b.band - ghost && b.n_ghost < UINT16_MAX) ++b.n_ghost;
+      if (r >= near_max(b) - b.band - ghost && b.n_ghost < UINT16_MAX) {
+        ++b.n_ghost;
+        if (!kCoarse) {
+          const float d = near_max(b) - r;
+          ghost_sum[bi] += d;
+          ghost_sq[bi] += d * d;
+        }
+      }
     } else {
       const double zr = q.z - (g.z0 + (uint32_t(zb) + 0.5) * g.dz);
       ++b.n;
@@ -1236,6 +1247,25 @@ void make_workspace(void *memory, const Capacity &c, Workspace *ws) {
 
 // Passes 1 and 2 of the wall grid and the floor map, from empty bins, with
 // the caps in ws.lip_cap (and vessel_cap's evidence counted, if given).
+// A second copy of the wall lies at one depth behind the band; the points
+// behind a block's side or a ledge (a protrusion's top, seen from above)
+// spread over the whole window. A bin whose ghost points' depths spread
+// more than kMaxGhostRmsMm RMS is no doubled bin: protrusion pits scanned
+// tilted or over an arc were refused DOUBLED_WALL at 0.20-0.35 (tuning
+// seeds 1311 #195 1x, #210; 0.01-0.07 counting the concentrated bins
+// only), the slips of seeds 1311 and 1312 kept 0.21-0.89.
+constexpr float kMaxGhostRmsMm = 1.2f;
+void drop_spread_ghosts(Workspace &ws, const Geo &g) {
+  const size_t bins = size_t(g.T) * g.Z;
+  const float *sum = ws.fill_val, *sq = ws.fill_val + bins;
+  for (size_t i = 0; i < bins; ++i) {
+    WallBin &b = ws.wall[i];
+    if (b.n_ghost < 2) continue;
+    const float mean = sum[i] / float(b.n_ghost);
+    if (sq[i] / float(b.n_ghost) - mean * mean > kMaxGhostRmsMm * kMaxGhostRmsMm) b.n_ghost = 0;
+  }
+}
+
 GridCtx grid_passes(const PointSource &src, const Params &p, Workspace &ws, const Model &m,
                     const Geo &g, const float *vessel_cap) {
   const size_t bins = size_t(g.T) * g.Z;
@@ -1259,6 +1289,12 @@ GridCtx grid_passes(const PointSource &src, const Params &p, Workspace &ws, cons
     src.visit(src.ctx, grid_batch<false>, &gc);
   }
   widen_bands_on_slopes(ws, g, p);
+  if (!p.coarse_bins) {
+    // fill_val is free until the floor's fill (3 x the bins)
+    gc.ghost_sum = ws.fill_val;
+    gc.ghost_sq = ws.fill_val + bins;
+    std::fill(ws.fill_val, ws.fill_val + 2 * bins, 0.0f);
+  }
   gc.second = true;
   gc.cache.start();
   src.visit(src.ctx, p.coarse_bins ? grid_batch<true, true> : grid_batch<true, false>, &gc);
@@ -1303,6 +1339,7 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
     std::copy(ws.vessel_cap(), ws.vessel_cap() + g.T, ws.lip_cap);
     gc = grid_passes(src, p, ws, *m, g, nullptr);
   }
+  if (!p.coarse_bins) drop_spread_ghosts(ws, g);
   const size_t bins = size_t(g.T) * g.Z;
   {
     // A slipped copy's floor lies at one height; an overhanging wall's
