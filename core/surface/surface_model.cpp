@@ -1245,8 +1245,6 @@ void make_workspace(void *memory, const Capacity &c, Workspace *ws) {
   layout(c, static_cast<unsigned char *>(memory), ws);
 }
 
-// Passes 1 and 2 of the wall grid and the floor map, from empty bins, with
-// the caps in ws.lip_cap (and vessel_cap's evidence counted, if given).
 // A second copy of the wall lies at one depth behind the band; the points
 // behind a block's side or a ledge (a protrusion's top, seen from above)
 // spread over the whole window. A bin whose ghost points' depths spread
@@ -1266,6 +1264,8 @@ void drop_spread_ghosts(Workspace &ws, const Geo &g) {
   }
 }
 
+// Passes 1 and 2 of the wall grid and the floor map, from empty bins, with
+// the caps in ws.lip_cap (and vessel_cap's evidence counted, if given).
 GridCtx grid_passes(const PointSource &src, const Params &p, Workspace &ws, const Model &m,
                     const Geo &g, const float *vessel_cap) {
   const size_t bins = size_t(g.T) * g.Z;

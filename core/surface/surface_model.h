@@ -153,7 +153,8 @@ struct Workspace {
   // room for a pointer more.
   float *vessel_cap() const { return slab_top + cap.theta_bins; }
   uint32_t *fill_idx;     // theta_bins * z_bins (bridging rounds)
-  float *fill_val;        // max(theta_bins * z_bins * 3, cells * cells)
+  float *fill_val;        // max(theta_bins * z_bins * 3, cells * cells); also the
+                          // ghost depths' sums in the grid's second pass
   uint32_t *queue;        // cells * cells (floor flood)
   // Optional, the caller's: one byte per point of the PointSource, where
   // build() keeps each point's theta bin for its later passes and for
