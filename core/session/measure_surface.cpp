@@ -433,6 +433,9 @@ double grid_scale_for(double wall_radius_mm, double grid_radius_mm) {
   const double scale = std::ceil(need * 8.0) / 8.0;
   return scale <= kMaxGridScale ? scale : 0.0;
 }
+double widest_measurable_mm(double grid_radius_mm) {
+  return kMaxGridScale * (grid_radius_mm - 5.0) / (1.0 + kWidthMarginShare);
+}
 surface::Params scaled_params(surface::Params p, double scale) {
   if (scale == 1.0) return p;
   p.cell_mm *= scale;
@@ -510,6 +513,11 @@ pv_status_t build_and_check_scaled(pv_session *s, const levelling::Transform &t,
   const bool built = st == PV_OK || st == PV_ERR_NOT_A_PIT;
   if (!built || !(c->occ.max_radius_mm > double(s->cfg.surface_max_radius_mm) - 5.0)) return st;
   const double scale = grid_scale_for(c->occ.max_radius_mm, double(s->cfg.surface_max_radius_mm));
+  // Wider than the widest grids: the limit the user is told is theirs, not
+  // the unscaled grids' (a 1.6 m pit was told "at most 315 mm").
+  if (scale == 0.0 && out->failed_check == PV_PIT_CHECK_TOO_WIDE) {
+    out->check_limit = widest_measurable_mm(double(s->cfg.surface_max_radius_mm));
+  }
   if (!(scale > 1.0)) return st;
   out->failed_check = PV_PIT_CHECK_NONE;
   out->check_value = out->check_limit = 0.0;

@@ -300,6 +300,34 @@ void wide_pit_with_ground_measures(void **) {
   expect_measures(wide_pit_with_ground(0.0), "wide pit", kPi * 380 * 380 * 200 / 1000.0);
 }
 
+// A pit 1.8 m across (900 mm radius, 150 mm deep, a ground ring): past the
+// widest grids (2.75 x the default 320 mm, less a tenth of margin: 787.5
+// mm), refused with that width as the limit, not the unscaled grids'.
+void pit_past_the_widest_grids_is_refused(void **) {
+  Rng g{21};
+  std::vector<pv_point_t> v;
+  for (int i = 0; i < 300000; ++i) {
+    const double u = g.uniform(), t = 2 * kPi * g.uniform();
+    double r, z;
+    if (u < 0.4) {
+      r = 900 * std::sqrt(g.uniform());
+      z = 0.1 * g.gauss();
+    } else if (u < 0.8) {
+      r = 900;
+      z = 150 * g.uniform();
+    } else {
+      r = std::sqrt(900.0 * 900.0 + (1000.0 * 1000.0 - 900.0 * 900.0) * g.uniform());
+      z = 150 + 0.1 * g.gauss();
+    }
+    v.push_back(P(r * std::cos(t), r * std::sin(t), z));
+  }
+  const Outcome o = measure(v);
+  assert_int_equal(o.status, PV_ERR_NOT_A_PIT);
+  assert_int_equal(o.r.failed_check, PV_PIT_CHECK_TOO_WIDE);
+  assert_true(o.r.check_value > 880.0);
+  assert_true(std::fabs(o.r.check_limit - 2.75 * 315.0 / 1.1) < 0.01);
+}
+
 // A pit without surround, 300 mm across and 150 mm deep: a first pass of
 // floor and wall, and (slip_dz not 0) a second, a fifth as large, of the
 // wall from 40 mm up only, shifted slip_dz along the axis (its tracking
@@ -411,6 +439,7 @@ int main() {
       PV_EACH_METHOD(one_litre_hole_measures),
       PV_EACH_METHOD(slipped_pass_with_ground_is_refused),
       PV_EACH_METHOD(wide_pit_with_ground_measures),
+      PV_EACH_METHOD(pit_past_the_widest_grids_is_refused),
       PV_EACH_METHOD(slipped_wall_pass_is_refused),
       PV_EACH_METHOD(pit_without_surround_measures),
       cmocka_unit_test_prestate_setup_teardown(sideways_slip_over_the_mouth_is_refused, with_method, nullptr,
