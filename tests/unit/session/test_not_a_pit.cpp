@@ -262,28 +262,32 @@ void grooved_pit_measures(void **) {
 // scan checks do not run), 200 mm deep, with a ground ring out to 480 mm:
 // floor, wall and ground; copy_dz: the tracking slipped that far up after
 // the first third of the scan (0: no slip).
+// n points of a cylinder pit of radius r and depth h with a ground ring
+// out to radius outer, raised by dz: 35 % floor, 40 % wall, 25 % ground.
+void add_pit_with_ground(Rng &g, int n, double r_pit, double h, double outer, double dz,
+                         std::vector<pv_point_t> *v) {
+  for (int i = 0; i < n; ++i) {
+    const double u = g.uniform(), t = 2 * kPi * g.uniform();
+    double r, z;
+    if (u < 0.35) {
+      r = r_pit * std::sqrt(g.uniform());
+      z = 0.1 * g.gauss();
+    } else if (u < 0.75) {
+      r = r_pit;
+      z = h * g.uniform();
+    } else {
+      r = std::sqrt(r_pit * r_pit + (outer * outer - r_pit * r_pit) * g.uniform());
+      z = h + 0.1 * g.gauss();
+    }
+    v->push_back(P(r * std::cos(t), r * std::sin(t), z + dz));
+  }
+}
+
 std::vector<pv_point_t> wide_pit_with_ground(double copy_dz) {
   Rng g{11};
   std::vector<pv_point_t> v;
-  const auto add = [&](int n, double dz) {
-    for (int i = 0; i < n; ++i) {
-      const double u = g.uniform(), t = 2 * kPi * g.uniform();
-      double r, z;
-      if (u < 0.35) {
-        r = 380 * std::sqrt(g.uniform());
-        z = 0.1 * g.gauss();
-      } else if (u < 0.75) {
-        r = 380;
-        z = 200 * g.uniform();
-      } else {
-        r = std::sqrt(380.0 * 380.0 + (480.0 * 480.0 - 380.0 * 380.0) * g.uniform());
-        z = 200 + 0.1 * g.gauss();
-      }
-      v.push_back(P(r * std::cos(t), r * std::sin(t), z + dz));
-    }
-  };
-  add(100000, 0.0);
-  add(200000, copy_dz);
+  add_pit_with_ground(g, 100000, 380, 200, 480, 0.0, &v);
+  add_pit_with_ground(g, 200000, 380, 200, 480, copy_dz, &v);
   return v;
 }
 
@@ -306,21 +310,7 @@ void wide_pit_with_ground_measures(void **) {
 void pit_past_the_widest_grids_is_refused(void **) {
   Rng g{21};
   std::vector<pv_point_t> v;
-  for (int i = 0; i < 300000; ++i) {
-    const double u = g.uniform(), t = 2 * kPi * g.uniform();
-    double r, z;
-    if (u < 0.4) {
-      r = 900 * std::sqrt(g.uniform());
-      z = 0.1 * g.gauss();
-    } else if (u < 0.8) {
-      r = 900;
-      z = 150 * g.uniform();
-    } else {
-      r = std::sqrt(900.0 * 900.0 + (1000.0 * 1000.0 - 900.0 * 900.0) * g.uniform());
-      z = 150 + 0.1 * g.gauss();
-    }
-    v.push_back(P(r * std::cos(t), r * std::sin(t), z));
-  }
+  add_pit_with_ground(g, 300000, 900, 150, 1000, 0.0, &v);
   const Outcome o = measure(v);
   assert_int_equal(o.status, PV_ERR_NOT_A_PIT);
   assert_int_equal(o.r.failed_check, PV_PIT_CHECK_TOO_WIDE);
