@@ -427,14 +427,14 @@ namespace {
 // and the floor's edge move with the finer model), in steps of 1/8.
 constexpr double kMaxGridScale = 2.75;
 constexpr double kWidthMarginShare = 0.1;
-double grid_scale_for(double wall_radius_mm, double grid_radius_mm) {
-  const double need = wall_radius_mm * (1.0 + kWidthMarginShare) / (grid_radius_mm - 5.0);
-  if (!(need > 1.0)) return 1.0;
-  const double scale = std::ceil(need * 8.0) / 8.0;
-  return scale <= kMaxGridScale ? scale : 0.0;
-}
 double widest_measurable_mm(double grid_radius_mm) {
   return kMaxGridScale * (grid_radius_mm - 5.0) / (1.0 + kWidthMarginShare);
+}
+double grid_scale_for(double wall_radius_mm, double grid_radius_mm) {
+  if (wall_radius_mm > widest_measurable_mm(grid_radius_mm)) return 0.0;
+  const double need = wall_radius_mm * (1.0 + kWidthMarginShare) / (grid_radius_mm - 5.0);
+  if (!(need > 1.0)) return 1.0;
+  return std::ceil(need * 8.0) / 8.0;
 }
 surface::Params scaled_params(surface::Params p, double scale) {
   if (scale == 1.0) return p;

@@ -1253,9 +1253,8 @@ void make_workspace(void *memory, const Capacity &c, Workspace *ws) {
 // seeds 1311 #195 1x, #210; 0.01-0.07 counting the concentrated bins
 // only), the slips of seeds 1311 and 1312 kept 0.21-0.89.
 constexpr float kMaxGhostRmsMm = 1.2f;
-void drop_spread_ghosts(Workspace &ws, const Geo &g) {
+void drop_spread_ghosts(Workspace &ws, const Geo &g, const float *sum, const float *sq) {
   const size_t bins = size_t(g.T) * g.Z;
-  const float *sum = ws.fill_val, *sq = ws.fill_val + bins;
   for (size_t i = 0; i < bins; ++i) {
     WallBin &b = ws.wall[i];
     if (b.n_ghost < 2) continue;
@@ -1298,6 +1297,7 @@ GridCtx grid_passes(const PointSource &src, const Params &p, Workspace &ws, cons
   gc.second = true;
   gc.cache.start();
   src.visit(src.ctx, p.coarse_bins ? grid_batch<true, true> : grid_batch<true, false>, &gc);
+  if (!p.coarse_bins) drop_spread_ghosts(ws, g, gc.ghost_sum, gc.ghost_sq);
   return gc;
 }
 
@@ -1339,7 +1339,6 @@ Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Pa
     std::copy(ws.vessel_cap(), ws.vessel_cap() + g.T, ws.lip_cap);
     gc = grid_passes(src, p, ws, *m, g, nullptr);
   }
-  if (!p.coarse_bins) drop_spread_ghosts(ws, g);
   const size_t bins = size_t(g.T) * g.Z;
   {
     // A slipped copy's floor lies at one height; an overhanging wall's
@@ -1676,12 +1675,24 @@ struct OccCtx {
   bool mouth;        // Occupancy::over_mouth is counted (not a vessel)
 };
 
-// A point of the surround near the rim (Occupancy::rim_hist).
-void surround_point(OccCtx *x, const Point &q, double above) {
+// A point about the axis at its height: its theta bin and radius.
+struct Polar {
+  uint32_t t;
+  double r;
+};
+Polar polar_of(const OccCtx *x, const Point &q) {
   const Model &m = *x->m;
   const double dx = q.x - m.axis.cx(q.z), dy = q.y - m.axis.cy(q.z);
-  const uint32_t t = x->ws->theta->bin(dx, dy);
-  const double r = std::sqrt(dx * dx + dy * dy);
+  return Polar{x->ws->theta->bin(dx, dy), std::sqrt(dx * dx + dy * dy)};
+}
+// The centre height of the wall grid's top bin, under the guard below the rim.
+double top_bin_z(const OccCtx *x) { return x->m->rim_mm - x->guard - 0.5 * x->g.dz; }
+
+// A point of the surround near the rim (Occupancy::rim_hist).
+void surround_point(OccCtx *x, const Point &q, double above) {
+  const Polar pq = polar_of(x, q);
+  const uint32_t t = pq.t;
+  const double r = pq.r;
   if (!(r > radius_at(x->ws->wall_val, x->g, t, q.z) + kOutsideWallMm)) return;
   const float cap = x->ws->lip_cap[t];
   if (cap < HUGE_VALF && !(r < double(cap) - kLipTolMm)) return;
@@ -1693,16 +1704,15 @@ void surround_point(OccCtx *x, const Point &q, double above) {
 // A point at the rim's height (Occupancy::over_mouth), against the wall's
 // top bin below the grid's guard under the rim.
 void mouth_point(OccCtx *x, const Point &q) {
-  const Model &m = *x->m;
   ++x->o->rim_level;
-  const double dx = q.x - m.axis.cx(q.z), dy = q.y - m.axis.cy(q.z);
-  const uint32_t t = x->ws->theta->bin(dx, dy);
-  const double r = std::sqrt(dx * dx + dy * dy);
+  const Polar pq = polar_of(x, q);
+  const uint32_t t = pq.t;
+  const double r = pq.r;
   // The lower of the top two bins: a container's lip dips into the top
   // bin where it sits under the rim's plane, and the bin reads its outer
   // edge (tuning seeds 5 and 1309: vessels refused). A wall that flares
   // upward (a bowl) has its top outside both; a neck, inside both.
-  const double z1 = m.rim_mm - x->guard - 0.5 * x->g.dz;
+  const double z1 = top_bin_z(x);
   const double top = std::min(radius_at(x->ws->wall_val, x->g, t, z1),
                               radius_at(x->ws->wall_val, x->g, t, z1 - x->g.dz));
   x->o->over_mouth += r < top - kMouthMarginMm ? 1 : 0;
@@ -1712,14 +1722,11 @@ void mouth_point(OccCtx *x, const Point &q) {
 // the rim against the wall's top bin under the grid's guard, below it
 // against the wall at its own height.
 void wall_band_point(OccCtx *x, const Point &q) {
-  const Model &m = *x->m;
-  const double dx = q.x - m.axis.cx(q.z), dy = q.y - m.axis.cy(q.z);
-  const uint32_t t = x->ws->theta->bin(dx, dy);
-  const double r = std::sqrt(dx * dx + dy * dy);
-  const bool above = q.z > m.rim_mm;
-  const double z_wall = above ? m.rim_mm - x->guard - 0.5 * x->g.dz : q.z;
-  if (!(std::fabs(r - radius_at(x->ws->wall_val, x->g, t, z_wall)) <= kWallBandRadiusMm)) return;
-  const uint32_t k = t * kRimSectors / x->g.T;
+  const Polar pq = polar_of(x, q);
+  const bool above = q.z > x->m->rim_mm;
+  const double z_wall = above ? top_bin_z(x) : q.z;
+  if (!(std::fabs(pq.r - radius_at(x->ws->wall_val, x->g, pq.t, z_wall)) <= kWallBandRadiusMm)) return;
+  const uint32_t k = pq.t * kRimSectors / x->g.T;
   ++(above ? x->o->wall_above : x->o->wall_below)[k];
 }
 

@@ -257,12 +257,7 @@ void grooved_pit_measures(void **) {
   expect_measures(v, "grooved pit");
 }
 
-// A pit 760 mm across (wider than the default grids: the model is built
-// again on grids scaled to it, where the wall's and the floor's doubled-
-// scan checks do not run), 200 mm deep, with a ground ring out to 480 mm:
-// floor, wall and ground; copy_dz: the tracking slipped that far up after
-// the first third of the scan (0: no slip).
-// n points of a cylinder pit of radius r and depth h with a ground ring
+// n points of a cylinder pit of radius r_pit and depth h with a ground ring
 // out to radius outer, raised by dz: 35 % floor, 40 % wall, 25 % ground.
 void add_pit_with_ground(Rng &g, int n, double r_pit, double h, double outer, double dz,
                          std::vector<pv_point_t> *v) {
@@ -283,6 +278,11 @@ void add_pit_with_ground(Rng &g, int n, double r_pit, double h, double outer, do
   }
 }
 
+// A pit 760 mm across (wider than the default grids: the model is built
+// again on grids scaled to it, where the wall's and the floor's doubled-
+// scan checks do not run), 200 mm deep, with a ground ring out to 480 mm:
+// floor, wall and ground; copy_dz: the tracking slipped that far up after
+// the first third of the scan (0: no slip).
 std::vector<pv_point_t> wide_pit_with_ground(double copy_dz) {
   Rng g{11};
   std::vector<pv_point_t> v;
