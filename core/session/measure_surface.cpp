@@ -484,7 +484,7 @@ pv_status_t build_and_check_at(pv_session *s, const levelling::Transform &t, dou
   const bool slip_floor_check = !c->p.coarse_bins && s->cfg.method == PV_METHOD_SURFACE;
   const surface::SecondLevel second =
       second_level_applies(c->p) ? surface::second_level(c->occ) : surface::SecondLevel{};
-  const ThinTop top = second_level_applies(c->p) ? thin_top(s, t, rim_mm, c->m.axis) : ThinTop{};
+  const ThinTop top = second_level_applies(c->p) ? thin_top(s, t, rim_mm, c->m.axis, c->prof) : ThinTop{};
   const surface::FloorWeights fw =
       slip_floor_check ? weigh_floor(s, t, stride, c->p, c->m) : surface::FloorWeights{};
   if (check_pit(c->occ, c->m, fw, second, top, ghost_checks, floor_check, slip_floor_check,

@@ -25,13 +25,14 @@ struct ThinTop {
   // above k against the 6 mm below, pooled over 8 sectors around the axis,
   // under kMaxStepRatio and in 7 of the 8 sectors under kSectorStepRatio):
   // the least ratio of the points per mm from k to 2 mm under the rim to
-  // those in the 20 mm below k. 1 where no such step is found.
+  // those in the 20 mm below k, each for its slope (thin_top.cpp). 1 where
+  // no such step is found.
   double ratio = 1.0;
   double depth_mm = 0.0;  // k's depth under the rim
 };
 
 ThinTop thin_top(const pv_session *s, const levelling::Transform &t, double rim_mm,
-                 const surface::Axis &axis);
+                 const surface::Axis &axis, const surface::Profile &prof);
 
 }  // namespace pv::session
 
