@@ -11,12 +11,14 @@
 // - measure: a real pit scanned properly: any refusal is false;
 // - gap_ok: the scan left over a tenth of the wall unseen: a WALL_GAP
 //   refusal is right, any other false;
+// - no_rim_ok: the scan missed the rim in over half the round: a NO_RIM
+//   refusal is right, any other false;
 // - refuse_or_hold (slips): refused, or the interval holds the truth;
 // - refuse_or_right (cm and m scans measured as mm): refused, or right;
 // - below_range: a pit under the 600 cm3 pitvol measures (README): refused
 //   (TOO_SMALL), or right.
 // The accuracy targets (mean, max, coverage, false refusals) are over
-// measure and gap_ok scans, 1x twins included (each is a real pit scanned
+// measure, gap_ok and no_rim_ok scans, 1x twins included (each is a real pit scanned
 // once); the tables by condition, family, size and surround hold the
 // sweep's scans, with their twins as the comparison only.
 #include "envelope_table.h"
@@ -120,6 +122,7 @@ bool false_refusal(const Scan &s, const Result &r) {
   if (r.ok()) return false;
   if (s.expect == "measure") return true;
   if (s.expect == "gap_ok") return reason(r) != "WALL_GAP";
+  if (s.expect == "no_rim_ok") return reason(r) != "NO_RIM";
   return false;
 }
 
@@ -129,7 +132,9 @@ bool wrong_ok(const Scan &s, const Result &r) {
           s.expect == "below_range") && r.ok() && !holds(s, r);
 }
 
-bool accuracy_scan(const Scan &s) { return s.expect == "measure" || s.expect == "gap_ok"; }
+bool accuracy_scan(const Scan &s) {
+  return s.expect == "measure" || s.expect == "gap_ok" || s.expect == "no_rim_ok";
+}
 
 // Targets (the issue's, over every family, size and condition).
 constexpr double kMeanTarget = 0.0005, kMaxTarget = 0.0025, kCoverageTarget = 0.95,

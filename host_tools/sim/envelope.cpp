@@ -438,7 +438,7 @@ std::string envelope_json(const EnvelopeCase &c, const Pit &pit, const WrittenPl
       "\"passes\": %u, \"pass_points\": %s, \"jitter_mm\": %.3f, \"copies\": %u, "
       "\"copies_interleaved\": %s, \"slip_mm\": [%.4f, %.4f, %.4f], \"units\": \"%s\", "
       "\"measure_units\": null, \"units_note\": \"%s\", \"twin\": %s, \"twin_of\": %s, "
-      "\"expect\": \"%s\", \"unseen_wall_share\": %.4f, \"reproduce\": \"%s\", \"ply\": \"%s.ply\", "
+      "\"expect\": \"%s\", \"unseen_wall_share\": %.4f, \"rim_unseen_sectors\": %u, \"reproduce\": \"%s\", \"ply\": \"%s.ply\", "
       "\"params\": ",
       c.name.c_str(), (unsigned long long)c.sweep_seed, c.index,
       c.sweep_seed >= kFirstFreshSeed ? "fresh" : "tuning", family_name(c.family),
@@ -452,7 +452,8 @@ std::string envelope_json(const EnvelopeCase &c, const Pit &pit, const WrittenPl
           : "measure WITHOUT --units: the scan tests pitvol's guess of the unit (the truth is in cm3)",
       c.twin.empty() ? "null" : ("\"" + c.twin + "\"").c_str(),
       c.twin_of.empty() ? "null" : ("\"" + c.twin_of + "\"").c_str(), c.expect.c_str(),
-      w.coverage.unseen_share, json_escape(reproduce(c)).c_str(), c.name.c_str());
+      w.coverage.unseen_share, w.coverage.rim_unseen_sectors, json_escape(reproduce(c)).c_str(),
+      c.name.c_str());
   // The pose: world = R * pit + t (pit frame: axis on z, floor near 0, rim
   // plane at depth_mm), millimetres, for levelled views of the scan.
   char pose[640];

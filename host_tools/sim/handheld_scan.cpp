@@ -193,6 +193,7 @@ struct HandheldScan::Impl {
   Rng path_rng{}, noise_rng{};
   // Wall coverage: a cell per wall triangle (-1: not wall), returns per cell.
   std::vector<int16_t> tri_cell;
+  std::vector<int16_t> tri_rim;  // the rim sector, after the wall's cells
   std::vector<double> cell_area;
   std::vector<uint32_t> cell_hits;
   std::vector<DropoutPatch> patches;
@@ -432,21 +433,30 @@ struct HandheldScan::Impl {
   // The wall cells of WallCoverage (reporting only: no draw, no point
   // depends on them).
   void build_cells() {
-    constexpr int kSectors = 36, kBands = 16;
+    constexpr int kSectors = kCoverageSectors, kBands = kCoverageBands;
+    constexpr int kRimCells = kSectors * kBands;  // the rim's sectors follow
     const size_t nt = tri.size() / 3;
     tri_cell.assign(nt, -1);
-    cell_area.assign(kSectors * kBands, 0.0);
-    cell_hits.assign(kSectors * kBands, 0);
+    tri_rim.assign(nt, -1);
+    cell_area.assign(kRimCells + kSectors, 0.0);
+    cell_hits.assign(kRimCells + kSectors, 0);
     for (size_t k = 0; k < nt; ++k) {
-      if (ground_tri[k]) continue;
       const V3 a = vertex(tri[3 * k]), b = vertex(tri[3 * k + 1]), c = vertex(tri[3 * k + 2]);
       const V3 n = cross(b - a, c - a);
       const double area = 0.5 * norm(n);
-      if (area <= 0.0 || std::fabs(n.z) > 0.7071 * 2.0 * area) continue;  // floor-like
       const V3 m = (1.0 / 3.0) * (a + b + c);
-      if (m.z > rim || std::sqrt(m.x * m.x + m.y * m.y) > radius + 1.0) continue;  // outer wall
+      const double rm = std::sqrt(m.x * m.x + m.y * m.y);
       const double ang = std::atan2(m.y, m.x) + kPi;
       const int sec = std::min(kSectors - 1, static_cast<int>(ang / (2.0 * kPi) * kSectors));
+      const bool rim_ground = ground_tri[k] && rm <= radius + kRimBandMm;
+      const bool rim_wall = !ground_tri[k] && m.z > rim - kRimBandMm && m.z <= rim && rm <= radius + 1.0;
+      if (area > 0.0 && (rim_ground || rim_wall)) {
+        tri_rim[k] = static_cast<int16_t>(kRimCells + sec);
+        cell_area[static_cast<size_t>(kRimCells + sec)] += area;
+      }
+      if (ground_tri[k]) continue;
+      if (area <= 0.0 || std::fabs(n.z) > 0.7071 * 2.0 * area) continue;  // floor-like
+      if (m.z > rim || rm > radius + 1.0) continue;  // outer wall
       const int band = std::clamp(static_cast<int>((m.z - zfloor) / depth * kBands), 0, kBands - 1);
       tri_cell[k] = static_cast<int16_t>(band * kSectors + sec);
       cell_area[static_cast<size_t>(band * kSectors + sec)] += area;
@@ -577,6 +587,7 @@ struct HandheldScan::Impl {
       // The pattern fades at grazing incidence: keep with keep_probability.
       if (noise_rng.uniform() >= keep_probability(cos_i)) return;
       if (tri_cell[pid] >= 0) ++cell_hits[static_cast<size_t>(tri_cell[pid])];
+      if (tri_rim[pid] >= 0) ++cell_hits[static_cast<size_t>(tri_rim[pid])];
       const double r = noise_rng.uniform();
       V3 q;
       if (r < sp) {
@@ -626,7 +637,13 @@ const std::vector<DropoutPatch> &HandheldScan::dropout_patches() const {
 WallCoverage wall_coverage_of(const std::vector<double> &area, const std::vector<uint32_t> &hits) {
   WallCoverage w;
   double total = 0.0, unseen = 0.0;
-  for (size_t i = 0; i < area.size() && i < hits.size(); ++i) {
+  constexpr size_t kWallCells = size_t(kCoverageSectors) * kCoverageBands;
+  for (size_t i = kWallCells; i < area.size() && i < hits.size(); ++i) {
+    if (area[i] <= 0.0) continue;
+    ++w.rim_sectors;
+    if (hits[i] < 3) ++w.rim_unseen_sectors;
+  }
+  for (size_t i = 0; i < kWallCells && i < area.size() && i < hits.size(); ++i) {
     if (area[i] <= 0.0) continue;
     ++w.cells;
     total += area[i];

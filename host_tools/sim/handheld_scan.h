@@ -63,9 +63,15 @@ struct ScanParams {
 // How much of the wall a scan saw: the wall (triangles steeper than 45 deg,
 // not the ground ring or lip) in 36 sectors x 16 height bands between the
 // lowest vertex and the rim; a cell is seen once 3 returns came from it.
+// And the rim, in the same 36 sectors: the wall's top kRimBandMm and the
+// ground or lip within kRimBandMm outside the pit's widest radius. A
+// sector is seen once 3 returns came from it.
+constexpr int kCoverageSectors = 36, kCoverageBands = 16;
+constexpr double kRimBandMm = 10.0;
 struct WallCoverage {
   double unseen_share = 0.0;  // wall area in cells never seen / wall area
   uint32_t cells = 0, unseen_cells = 0;
+  uint32_t rim_sectors = 0, rim_unseen_sectors = 0;
 };
 
 // A dropout patch, in the pit frame.
@@ -96,7 +102,8 @@ class HandheldScan {
   // The dropout patches drawn for this scan (empty by default).
   const std::vector<DropoutPatch> &dropout_patches() const;
   // The wall seen by the frames returned so far, and its cells (area,
-  // returns) for summing several passes (wall_coverage_of).
+  // returns; the wall's cells, then the rim's sectors) for summing several
+  // passes (wall_coverage_of).
   WallCoverage wall_coverage() const;
   void wall_cells(std::vector<double> *area, std::vector<uint32_t> *hits) const;
 
