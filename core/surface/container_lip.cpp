@@ -235,9 +235,19 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
   // A flat bin whose ring reads narrower than the median saw part of the
   // lip (its outer edge the inner wall's top, a texture's bump): capped
   // there, the grooves below it were cut (tuning seed 5 #182, a grooved
-  // vessel: -0.40 %). Its cap is at least the median width out.
+  // vessel: -0.40 %). Its cap is at least the median width out. Any other
+  // bin's cap, carried from the flat bins around, lies at least at its own
+  // inner edge: the lip runs out from the wall's top, never inside it. A
+  // 1 m vessel whose axis sat a few mm off the lip's centre had caps
+  // carried 1-2 mm inside the wall's top over 40 % of the round, its wall
+  // points there all dropped: refused WALL_GAP (fresh seed 1315 #138's 1x
+  // twin, looked at for this; now -0.10 % +/- 0.6 %).
   for (uint32_t t = 0; t < T; ++t) {
-    if (flat_cap[t] < HUGE_VALF) vessel_cap[t] = std::max(vessel_cap[t], hole[t] + w - float(kLipTolMm));
+    if (flat_cap[t] < HUGE_VALF) {
+      vessel_cap[t] = std::max(vessel_cap[t], hole[t] + w - float(kLipTolMm));
+    } else if (hole[t] < HUGE_VALF) {
+      vessel_cap[t] = std::max(vessel_cap[t], hole[t]);
+    }
   }
   return true;
 }
