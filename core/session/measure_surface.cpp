@@ -432,8 +432,15 @@ constexpr double kWidthMarginShare = 0.1;
 double widest_measurable_mm(double grid_radius_mm) {
   return kMaxGridScale * (grid_radius_mm - 5.0) / (1.0 + kWidthMarginShare);
 }
+// Past the widest measurable radius but within the widest grids without
+// the margin, the widest grids are tried: the first model's widest wall
+// bin reads the wall from a clipped model's axis (shallow wide pits of
+// 757-759 mm read 787.6-788.4 there: fresh seed 1316 #004's 1x twin and
+// #183, refused TOO_WIDE), and the finer model's own check (TOO_WIDE at
+// the scaled grids' radius) decides.
 double grid_scale_for(double wall_radius_mm, double grid_radius_mm) {
-  if (wall_radius_mm > widest_measurable_mm(grid_radius_mm)) return 0.0;
+  if (wall_radius_mm > kMaxGridScale * (grid_radius_mm - 5.0)) return 0.0;
+  if (wall_radius_mm > widest_measurable_mm(grid_radius_mm)) return kMaxGridScale;
   const double need = wall_radius_mm * (1.0 + kWidthMarginShare) / (grid_radius_mm - 5.0);
   if (!(need > 1.0)) return 1.0;
   return std::ceil(need * 8.0) / 8.0;
