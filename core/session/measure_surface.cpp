@@ -3,8 +3,6 @@
 // rim is the volume; the unseen wall it had to bridge gives the interval
 // and the coverage.
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 
 #include "session/session_impl.h"
@@ -548,7 +546,6 @@ constexpr uint32_t kMaxWallAboveSectors = 12;
 pv_status_t build_and_check(pv_session *s, const levelling::Transform &t, double rim_mm,
                             pv_result_t *out, CheckedModel *c) {
   const pv_status_t st = build_and_check_scaled(s, t, rim_mm, out, c);
-  if (getenv("PV_DBG_WA")) fprintf(stderr, "wall_above %u\n", surface::wall_above_sectors(c->occ));
   if (st == PV_OK && surface::wall_above_sectors(c->occ) >= kMaxWallAboveSectors) return PV_ERR_NO_RIM;
   return st;
 }
