@@ -23,6 +23,10 @@
 //       long, duplicated or slipped scan, DIR/manifest.csv + manifest.json.
 //       --thin F: every scan's point count times F (quick sweeps in tests).
 //       Seeds below 1000 are tuning seeds, 1000 and up fresh.
+//   pitvol-sim sweep --seed S --index I [--family F] [--condition C]
+//                    --slabs FILE [--step MM]
+//       as slabs, for that sweep case's pit as drawn (its scale and shape;
+//       a twin's pit is its case's): no scan is written.
 //   pitvol-sim conditions
 //   pitvol-sim families
 #include <sys/stat.h>
@@ -58,6 +62,7 @@ const char kUsage[] =
     "       pitvol-sim slabs --family NAME [--no-ground] [--seed S] --layers FILE [--step MM]\n"
     "       pitvol-sim sweep --seed S [[--from I] --count N | --index I] [--family F] [--condition C]\n"
     "                        [--frames] [--thin F] --out DIR\n"
+    "       pitvol-sim sweep --seed S --index I [--family F] [--condition C] --slabs FILE [--step MM]\n"
     "       pitvol-sim conditions\n"
     "       pitvol-sim families\n"
     "       pitvol-sim --help\n";
@@ -161,7 +166,10 @@ bool read_layers(const std::string &path, std::vector<double> *z, std::vector<do
   return z->size() >= 2;
 }
 
-int slabs(const CorpusCase &c, const std::string &layers_path, double step_mm) {
+// The pit's true void in slabs beside pitvol's section profile: a corpus
+// pit (slabs), or a sweep draw's pit as drawn (sweep --slabs: its scale and
+// shape, not the family's nominal pit).
+int slabs_of(const Pit &pit, const std::string &layers_path, double step_mm) {
   std::vector<double> z, area;
   if (!read_layers(layers_path, &z, &area)) {
     std::fprintf(stderr, "pitvol-sim: %s is not a layers CSV of pitvol measure --layers\n",
@@ -170,7 +178,6 @@ int slabs(const CorpusCase &c, const std::string &layers_path, double step_mm) {
   }
   const double h = z[1] - z[0];
   const auto per = size_t(std::max(1.0, std::round(step_mm / h)));
-  const Pit pit = make_pit(c.family, c.ground, c.seed);
   std::printf("from_mm,to_mm,true_cm3,measured_cm3,diff_cm3,diff_radius_mm\n");
   double true_all = 0, meas_all = 0;
   for (size_t i = 0; i < z.size(); i += per) {
@@ -189,6 +196,10 @@ int slabs(const CorpusCase &c, const std::string &layers_path, double step_mm) {
   }
   std::printf("all,,%.3f,%.3f,%+.3f,\n", true_all / 1000, meas_all / 1000, (meas_all - true_all) / 1000);
   return 0;
+}
+
+int slabs(const CorpusCase &c, const std::string &layers_path, double step_mm) {
+  return slabs_of(make_pit(c.family, c.ground, c.seed), layers_path, step_mm);
 }
 
 // One sweep case (and its twin): files in dir, manifest lines appended.
@@ -235,8 +246,9 @@ int sweep(int argc, char **argv) {
   long count = -1, index = -1, from = 0;
   bool have_seed = false, frames = false;
   double thin = 1.0;  // every point count times this (quick sweeps for tests)
+  double step_mm = 10.0;
   SweepFilter filter;
-  std::string out;
+  std::string out, layers;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     const bool more = i + 1 < argc;
@@ -265,9 +277,21 @@ int sweep(int argc, char **argv) {
       ++i;
     } else if (a == "--out" && more) {
       out = argv[++i];
+    } else if (a == "--slabs" && more) {
+      layers = argv[++i];
+    } else if (a == "--step" && more && parse_num(argv[i + 1], &v) && v >= 0.5 && v <= 1000) {
+      step_mm = v;
+      ++i;
     } else {
       return usage(("unknown or incomplete sweep option '" + a + "'").c_str());
     }
+  }
+  if (!layers.empty()) {
+    if (!have_seed || index < 0) return usage("sweep --slabs needs --seed and --index");
+    EnvelopeCase c;
+    std::string err;
+    if (!draw_envelope_case(seed, uint32_t(index), filter, &c, &err)) return usage(err.c_str());
+    return slabs_of(make_pit(c.family, c.ground, c.pit_seed, c.pit), layers, step_mm);
   }
   if (!have_seed || out.empty() || (count < 0) == (index < 0))
     return usage("sweep needs --seed, --out and one of --count, --index");

@@ -42,6 +42,19 @@ done < <(tail -n +2 "$work/a/manifest.csv")
 grep -q '"measure_units": null' "$work/a/manifest.json" || fail "manifest.json lacks measure_units"
 grep -q '"world_from_pit": {"R": \[' "$work/a/manifest.json" || fail "manifest.json lacks the pose"
 echo "sweep: 12 scans and $twins twins; --index 3 and 5 the same bytes"
+# --slabs: a sweep case's pit as drawn (its scale and shape), not the
+# family's nominal pit: against empty layers from under the floor to over
+# the rim, the slabs' true void sums to the manifest's exact volume (case 2,
+# a 0.4 m3 pit drawn 4x its family's nominal size).
+c_exact=$(col exact_volume_cm3) c_depth=$(col depth_mm)
+row=$(grep '^s1-002-' "$work/a/manifest.csv" | head -1)
+exact=$(cut -d, -f"$c_exact" <<<"$row") depth=$(cut -d, -f"$c_depth" <<<"$row")
+awk -v d="$depth" 'BEGIN { print "z_mm,area_mm2"; for (z = -9.75; z < d + 10; z += 0.5) printf "%.2f,0\n", z }' \
+  > "$work/empty-layers.csv"
+truth=$("$sim" sweep --seed 1 --index 2 --slabs "$work/empty-layers.csv" --step 1000 | awk -F, '$1 == "all" { print $3 }')
+awk -v a="$truth" -v b="$exact" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(b > 0 && d <= 0.001 + 1e-6 * b) }' ||
+  fail "sweep --slabs: the true void of case 2 sums to $truth cm3, its exact volume is $exact"
+echo "sweep --slabs: case 2's pit as drawn ($truth cm3)"
 "$acc" "$work/a" --envelope --markdown > "$work/table.md"
 grep -q '^| mean abs error <= 0.05 %' "$work/table.md" || fail "no targets in the envelope table"
 grep -q '^### The envelope: family x size x condition' "$work/table.md" || fail "no envelope table"
