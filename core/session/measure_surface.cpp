@@ -437,11 +437,11 @@ double widest_measurable_mm(double grid_radius_mm) {
 // #183, refused TOO_WIDE), and the finer model's own check (TOO_WIDE at
 // the scaled grids' radius) decides.
 double grid_scale_for(double wall_radius_mm, double grid_radius_mm) {
-  if (wall_radius_mm > kMaxGridScale * (grid_radius_mm - 5.0)) return 0.0;
-  if (wall_radius_mm > widest_measurable_mm(grid_radius_mm)) return kMaxGridScale;
-  const double need = wall_radius_mm * (1.0 + kWidthMarginShare) / (grid_radius_mm - 5.0);
+  const double usable = grid_radius_mm - 5.0;
+  if (wall_radius_mm > kMaxGridScale * usable) return 0.0;
+  const double need = wall_radius_mm * (1.0 + kWidthMarginShare) / usable;
   if (!(need > 1.0)) return 1.0;
-  return std::ceil(need * 8.0) / 8.0;
+  return std::min(kMaxGridScale, std::ceil(need * 8.0) / 8.0);
 }
 surface::Params scaled_params(surface::Params p, double scale) {
   if (scale == 1.0) return p;
