@@ -350,4 +350,10 @@ twin=1 sweep_args="--family bowl --condition slip_vertical" measure 138 1315
 # widest grids are tried, their model decides.
 sweep_args="--family shallow_wide --condition stones" measure 183 1316
 [ "$status" = PV_OK ] && inside || fail "1316/183 (757 mm radius): $status $check $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 54 cases as expected"
+# A second pass 8 mm higher in a 0.85 m wide vessel, measured on grids
+# scaled to it, where the floor's ghost share did not run: +1.72 % with
+# PV_OK outside +/- 0.47 % (tuning seed 1316). The share runs there too.
+sweep_args="--family bulge --condition slip_vertical" measure 52 1316
+[ "$status" = PV_ERR_NOT_A_PIT ] && [ "$check" = PV_PIT_CHECK_DOUBLED_FLOOR ] ||
+  fail "1316/052 (vertical slip, scaled grids): $status $check $volume +/- $interval cm3 against $exact"
+echo "envelope findings: 55 cases as expected"
