@@ -785,6 +785,78 @@ bool level_cell(const Workspace &ws, const Geo &g, uint32_t x, uint32_t y, float
   return std::fabs(e.value - w.value) <= max_rise && std::fabs(n.value - s.value) <= max_rise;
 }
 
+// The largest, over the directions, of a count's share (per T theta
+// columns) in the two 60 deg sectors facing a direction less its share in
+// the two across; -1 where no direction has kMinSectorBins dense bins in
+// both pairs.
+double sector_contrast(const uint32_t *dense, const uint32_t *count, uint32_t T) {
+  // Sectors of 60 deg: the columns within T / 12 of a centre (exclusive).
+  const uint32_t w = (T + 11) / 12 - 1;
+  const auto sector = [&](const uint32_t *c, uint32_t centre) {
+    uint32_t sum = 0;
+    for (uint32_t d = 0; d <= 2 * w; ++d) sum += c[(centre + T - w + d) % T];
+    return sum;
+  };
+  const uint32_t half = T / 2, quarter = T / 4;
+  double contrast = -1;
+  for (uint32_t k = 0; k < half; ++k) {
+    const uint32_t on_n = sector(dense, k) + sector(dense, k + half);
+    const uint32_t off_n = sector(dense, k + quarter) + sector(dense, k + half + quarter);
+    if (on_n < kMinSectorBins || off_n < kMinSectorBins) continue;
+    const double on = double(sector(count, k) + sector(count, k + half)) / on_n;
+    const double off = double(sector(count, k + quarter) + sector(count, k + half + quarter)) / off_n;
+    contrast = std::max(contrast, on - off);
+  }
+  return contrast;
+}
+
+// A bin holding this share of its points behind the band is a ghost bin:
+// half of the points behind the band, less the noise that keeps part of
+// the second copy inside it.
+inline bool ghost_bin(uint64_t n_ghost, uint64_t n_all) { return 10 * n_ghost >= 3 * n_all; }
+
+// A small pit's wall spreads its stored points over bins too small to hold
+// kDenseBinPoints (a 1.7 L pit: about 5 a bin), so no direction had the
+// dense bins for the contrast and a doubled wall went unchecked. There the
+// ghost bins are counted on blocks of kPoolZ x kPoolT bins (4 mm x 4 deg
+// on the default grids), where a block spans at most kMaxPoolArcMm of the
+// wall's mean radius: a 2 deg bin's arc at the 315 mm the default grids
+// reach, where the bins' own contrast was measured. Wider, an oblique wall
+// (an ellipse's) puts its own points behind a block's band: sparse
+// ellipticals of 324 and 544 mm read 0.39 pooled.
+constexpr uint32_t kPoolZ = 2, kPoolT = 2;
+constexpr double kMaxPoolArcMm = 11.0;
+
+double pooled_ghost_contrast(const Workspace &ws, const Geo &g) {
+  double radius_sum = 0;
+  uint32_t seen = 0;
+  for (size_t i = 0; i < size_t(g.Z) * g.T; ++i) {
+    if (ws.wall[i].state != kSeen) continue;
+    radius_sum += double(near_max(ws.wall[i]));
+    ++seen;
+  }
+  if (seen == 0 || radius_sum / seen * (2 * kPi * kPoolT / g.T) > kMaxPoolArcMm) return -1;
+  const uint32_t T = (g.T + kPoolT - 1) / kPoolT;
+  uint32_t dense[AngleBins::kMaxBins] = {}, ghost[AngleBins::kMaxBins] = {};
+  for (uint32_t z0 = 0; z0 < g.Z; z0 += kPoolZ) {
+    for (uint32_t t = 0; t < T; ++t) {
+      uint64_t all = 0, behind = 0;
+      for (uint32_t z = z0; z < std::min(g.Z, z0 + kPoolZ); ++z) {
+        for (uint32_t u = t * kPoolT; u < std::min(g.T, (t + 1) * kPoolT); ++u) {
+          const WallBin &b = ws.wall[size_t(z) * g.T + u];
+          if (b.state != kSeen) continue;
+          all += b.n_all;
+          behind += b.n_ghost;
+        }
+      }
+      if (all < kDenseBinPoints) continue;
+      ++dense[t];
+      ghost[t] += ghost_bin(behind, all) ? 1 : 0;
+    }
+  }
+  return sector_contrast(dense, ghost, T);
+}
+
 void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool coarse, double band_mm,
                   Model *m) {
   uint32_t dense[AngleBins::kMaxBins] = {}, ghost[AngleBins::kMaxBins] = {},
@@ -794,9 +866,7 @@ void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool co
       const WallBin &b = ws.wall[size_t(z) * g.T + t];
       if (b.state != kSeen || b.n_all < kDenseBinPoints) continue;
       ++dense[t];
-      // 30 %: half of the points behind the band, less the noise that
-      // keeps part of the second copy inside it.
-      ghost[t] += 10 * uint64_t(b.n_ghost) >= 3 * uint64_t(b.n_all) ? 1 : 0;
+      ghost[t] += ghost_bin(b.n_ghost, b.n_all) ? 1 : 0;
       // Copies closer than the band (1.5 mm) put both in it: its points
       // then spread about the bin's plane by up to half their distance.
       // Counted apart: further apart, the spread of the bins across the
@@ -805,29 +875,9 @@ void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool co
       thick[t] += !coarse && b.n >= kDenseBinPoints && bin_spread(b) > kThickBandMm ? 1 : 0;
     }
   }
-  // Sectors of 60 deg: the bins within T / 12 of a centre (exclusive).
-  const auto sector = [&](const uint32_t *count, uint32_t centre) {
-    const uint32_t w = (g.T + 11) / 12 - 1;
-    uint32_t sum = 0;
-    for (uint32_t d = 0; d <= 2 * w; ++d) sum += count[(centre + g.T - w + d) % g.T];
-    return sum;
-  };
-  // The largest, over the directions, of a count's share in the two
-  // sectors facing a direction less its share in the two across.
-  const uint32_t half = g.T / 2, quarter = g.T / 4;
-  const auto contrast = [&](const uint32_t *count) {
-    double c = -1;
-    for (uint32_t k = 0; k < half; ++k) {
-      const uint32_t on_n = sector(dense, k) + sector(dense, k + half);
-      const uint32_t off_n = sector(dense, k + quarter) + sector(dense, k + half + quarter);
-      if (on_n < kMinSectorBins || off_n < kMinSectorBins) continue;
-      const double on = double(sector(count, k) + sector(count, k + half)) / on_n;
-      const double off = double(sector(count, k + quarter) + sector(count, k + half + quarter)) / off_n;
-      c = std::max(c, on - off);
-    }
-    return c;
-  };
-  const double behind = contrast(ghost), spread = contrast(thick);
+  double behind = sector_contrast(dense, ghost, g.T);
+  if (behind < 0 && !coarse) behind = pooled_ghost_contrast(ws, g);
+  const double spread = sector_contrast(dense, thick, g.T);
   m->ghost_contrast = std::max(behind, spread);
   const auto max_rise = float(kLevelRiseBands * band_mm);
   box.each(g.C, [&](size_t i, uint32_t x, uint32_t y) {
