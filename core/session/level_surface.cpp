@@ -39,23 +39,10 @@ constexpr double kSupportMaxTiltDeg = 30.0;
 // PV_PIT_CHECK_NARROW_MOUTH (a section through the wall read as the rim:
 // tuning seed 1300 #067, check seed 1301 #102 and #271, 66-112 deg off
 // 16-22 deg scans). Those are levelled from the scanner's axis instead.
-// Past 120 deg the frame is upside down, which only a configuration that
-// allows it (max_opening_tilt_deg) may measure: under the default 90 deg
-// it was refused, where the floor fit had only chosen the wrong way up.
-// Such a frame too is levelled from the scanner's axis. Seeds 1311-1317
-// and tilted 10 (2,914 scans, looked at for this): five real pits refused
-// (OPENING_TILT, POINTS_INSIDE, DEPTH_EXCEEDS_CAPACITY; four scans held
-// 46-58 deg off, a long one 11 deg off) now read their frame within 0.1 deg,
-// four within their intervals (0.00 to +0.22 %), a 0.47 m3 hand-dug pit
-// +1.04 % (its model's); nothing else changed. The floor fit's plane the
-// other way up as a start (before the scanner's axis) was measured and not
-// kept: its plane lay 14-25 deg off the opening where the frames were
-// wrong, and two more scans were refused.
 constexpr double kMinSidewaysTiltDeg = 60.0;
-bool faces_sideways(const pv_session *s, const levelling::Transform &f) {
+bool faces_sideways(const levelling::Transform &f) {
   const double tilt = f.tilt_deg();
-  return tilt > kMinSidewaysTiltDeg &&
-         (tilt < 180.0 - kMinSidewaysTiltDeg || tilt > double(s->cfg.max_opening_tilt_deg));
+  return tilt > kMinSidewaysTiltDeg && tilt < 180.0 - kMinSidewaysTiltDeg;
 }
 
 // Rotation taking unit vector n onto +Z (Rodrigues), applied after t.
@@ -363,7 +350,7 @@ Opening level_from_turned_axis(pv_session *s, const levelling::Transform &start,
       Candidate &k = c[n];
       k.t = start;
       rotate_onto_z(axis, &k.t);
-      if (!level_on_opening(s, &k.t, &k.o) || faces_sideways(s, k.t)) continue;
+      if (!level_on_opening(s, &k.t, &k.o) || faces_sideways(k.t)) continue;
       any_ground = any_ground || on_ground(k.o);
       ++n;
     }
@@ -402,7 +389,7 @@ Opening level_for_surface(pv_session *s, levelling::Transform *t) {
   Opening o;
   levelling::Transform from_floor = *t;
   const bool floor_found = level_on_opening(s, &from_floor, &o);
-  if (floor_found && !faces_sideways(s, from_floor)) {
+  if (floor_found && !faces_sideways(from_floor)) {
     const double bottom = bottom_mm(s, from_floor);
     if (bottom > kFloatingBottomMm) bottom_to_zero(bottom, &from_floor, &o);
     *t = from_floor;
@@ -422,7 +409,7 @@ Opening level_for_surface(pv_session *s, levelling::Transform *t) {
   const Eigen::Vector3d up = (scanner_up || scanner_z.z() >= 0) ? scanner_z : Eigen::Vector3d(-scanner_z);
   rotate_onto_z(up, &upright);
   Opening from_upright;
-  if (!level_on_opening(s, &upright, &from_upright) || (floor_found && faces_sideways(s, upright))) {
+  if (!level_on_opening(s, &upright, &from_upright) || (floor_found && faces_sideways(upright))) {
     const Opening turned = level_from_turned_axis(s, start, up, t);
     if (turned.found) return turned;
     if (!floor_found) return Opening{};

@@ -363,11 +363,4 @@ sweep_args="--family bulge --condition slip_vertical" measure 52 1316
 sweep_args="--family elliptical --condition slip_lateral" measure 20 1313
 [ "$status" = PV_ERR_NOT_A_PIT ] && [ "$check" = PV_PIT_CHECK_DOUBLED_WALL ] ||
   fail "1313/020 (lateral slip, small pit): $status $check $volume +/- $interval cm3 against $exact"
-# A 300 mm shallow vessel scanned 57 deg off: the floor fit chose the wrong
-# way up, the opening found from it faced 146 deg from the scanner's axis,
-# the floor taken for the opening, refused POINTS_INSIDE (tuning seed 1315).
-# An upside-down frame, where the configuration does not allow one, is
-# levelled from the scanner's axis.
-sweep_args="--family shallow_wide --condition tilted" measure 120 1315
-[ "$status" = PV_OK ] && inside || fail "1315/120 (57 deg off, frame upside down): $status $check $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 57 cases as expected"
+echo "envelope findings: 56 cases as expected"
