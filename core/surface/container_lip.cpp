@@ -126,7 +126,7 @@ bool mostly_lip(const float *cap, const float *hole, uint32_t T) {
 }
 
 bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
-          float *vessel_cap, float *scratch, float **hole_out) {
+          float *vessel_cap, float *scratch, float **hole_out, float *width_out) {
   const uint32_t T = ws.cap.theta_bins;
   // scratch, theta_bins floats each: pass 1's top band extremes and
   // counts, pass 2's counts, and the bins' pooled edges.
@@ -231,6 +231,7 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
   // -0.08 % (fresh seed 1309 #282, looked at for this).
   std::nth_element(width + flat / 2, width + flat * 3 / 4, width + flat);
   if (width[flat * 3 / 4] > float(kLipMaxWidthSpread) * w) return false;
+  *width_out = w;
   fill_caps(flat_cap, hole, w, true, true, T, vessel_cap);
   // A flat bin whose ring reads narrower than the median saw part of the
   // lip (its outer edge the inner wall's top, a texture's bump): capped
@@ -258,7 +259,7 @@ LipCaps lip_caps(const PointSource &src, const Workspace &ws, const Model &m, fl
                  float *vessel_cap, float *scratch) {
   float *hole = nullptr;
   LipCaps r;
-  r.undecided = caps(src, ws, m, cap, vessel_cap, scratch, &hole);
+  r.undecided = caps(src, ws, m, cap, vessel_cap, scratch, &hole, &r.width_mm);
   r.vessel_lip = mostly_lip(r.undecided ? vessel_cap : cap, hole, ws.cap.theta_bins);
   return r;
 }

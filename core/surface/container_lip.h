@@ -78,6 +78,7 @@ constexpr double kLipMaxWidthSpread = 2.5;
 struct LipCaps {
   bool undecided = false;
   bool vessel_lip = false;
+  float width_mm = 0;  // where undecided: the flat bins' median width
 };
 LipCaps lip_caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
                  float *vessel_cap, float *scratch);
