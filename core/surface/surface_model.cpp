@@ -240,7 +240,7 @@ inline bool beyond_lip(float cap, float r, double dx, double dy, const Axis &axi
 // points from kOuterTopMm under the rim down through the upper half of the
 // depth (below it a floor's points lie behind the wall bins) in bins
 // (kOuterBinPoints or more) whose surface lies beyond the vessel's cap,
-// this share or more lie kInnerWallGapMm or more behind the bin's band:
+// this share or more lie an inner wall's gap (inner_wall_gap()) or more behind the bin's band:
 // the vessel's caps hold (and the grid is built again under them).
 // Tuning seeds 5, 11 and 12: the vessels 0.26-0.78 (two with 2.4 and
 // 3.4 mm lips 0.06: their inner wall within the gap, read +0.3 and +0.45 %
