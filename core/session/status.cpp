@@ -83,6 +83,7 @@ extern "C" const char *pv_pit_check_name(uint32_t check) {
     case PV_PIT_CHECK_DOUBLED_RIM: return "PV_PIT_CHECK_DOUBLED_RIM";
     case PV_PIT_CHECK_THIN_TOP: return "PV_PIT_CHECK_THIN_TOP";
     case PV_PIT_CHECK_OVER_MOUTH: return "PV_PIT_CHECK_OVER_MOUTH";
+    case PV_PIT_CHECK_SHIFTED_WALL: return "PV_PIT_CHECK_SHIFTED_WALL";
     default: return "PV_PIT_CHECK_UNKNOWN";
   }
 }
@@ -136,6 +137,11 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
              "inside the wall: the scan holds the pit twice, shifted sideways "
              "(the scanner lost its tracking during the scan); scan the pit "
              "again in one steady pass";
+    case PV_PIT_CHECK_SHIFTED_WALL:
+      return "a second wall lies behind the first, furthest on two opposite "
+             "sides and nowhere across them: the scan holds the pit twice, "
+             "shifted sideways (the scanner lost its tracking during the "
+             "scan); scan the pit again in one steady pass";
     default: return "unknown check";
   }
 }

@@ -2,6 +2,7 @@
 
 #include "surface/container_lip.h"
 
+#include "common/angle.h"
 #include "common/divisor.h"
 #include "surface/angle_bins.h"
 #include "surface/floor_map.h"
@@ -1797,6 +1798,16 @@ void wall_band_point(OccCtx *x, const Point &q) {
   ++(above ? x->o->wall_above : x->o->wall_below)[k];
 }
 
+// A point on the wall or behind it (Occupancy::on_wall, behind).
+void behind_wall_point(Occupancy *o, uint32_t sector, double behind) {
+  if (std::fabs(behind) <= kOnWallMm) {
+    ++o->on_wall[sector];
+  } else if (behind > kBehindFromMm && behind <= kBehindToMm) {
+    ++o->behind[sector];
+    o->behind_mm[sector] += behind;
+  }
+}
+
 void occupancy_pass(void *c, const Point &q) {
   auto *x = static_cast<OccCtx *>(c);
   const Model &m = *x->m;
@@ -1812,7 +1823,9 @@ void occupancy_pass(void *c, const Point &q) {
   const double dx = q.x - m.axis.cx(q.z), dy = q.y - m.axis.cy(q.z);
   const double r = std::sqrt(dx * dx + dy * dy);
   const uint32_t t = theta_of(x->cache, idx, dx, dy, *x->ws->theta);
-  if (r > radius_at(x->ws->wall_val, x->g, t, q.z) - x->margin) return;
+  const double wall = radius_at(x->ws->wall_val, x->g, t, q.z);
+  if (q.z < m.rim_mm - kShiftTopMm) behind_wall_point(x->o, t * kRimSectors / x->g.T, r - wall);
+  if (r > wall - x->margin) return;
   const double fx = x->g.per_cell.of(q.x - x->g.fx0), fy = x->g.per_cell.of(q.y - x->g.fy0);
   double floor_z = 0.0;
   if (fx >= 0 && fy >= 0 && fx < x->g.C && fy < x->g.C) {
@@ -1837,6 +1850,49 @@ Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
     if (ws.wall[i].state == kSeen) o.max_radius_mm = std::max(o.max_radius_mm, double(ws.wall_val[i]));
   }
   return o;
+}
+
+ShiftedWall shifted_wall(const Occupancy &o) {
+  double d[kRimSectors], mean = 0;
+  uint64_t on = 0, behind = 0;
+  for (uint32_t k = 0; k < kRimSectors; ++k) {
+    on += o.on_wall[k];
+    behind += o.behind[k];
+    const bool some = o.behind[k] >= kMinBehindPoints && double(o.behind[k]) >= kMinBehindShare * o.on_wall[k];
+    d[k] = some ? o.behind_mm[k] / o.behind[k] : 0.0;
+    mean += d[k];
+  }
+  mean /= kRimSectors;
+  ShiftedWall w{on ? double(behind) / double(on) : 0.0, 1.0};
+  // |cos| of j sectors' turn (pv::sin_cos: the same bits everywhere).
+  double turn[kRimSectors];
+  for (uint32_t j = 0; j < kRimSectors; ++j) {
+    double s = 0, c = 0;
+    sin_cos(2.0 * kPi * j / kRimSectors, &s, &c);
+    turn[j] = std::fabs(c);
+  }
+  double flat = 0;
+  for (const double v : d) flat += (v - mean) * (v - mean);
+  if (!(flat > 0)) return w;
+  // |cos| repeats every half turn: the shift's direction in the first half.
+  double best = HUGE_VAL;
+  for (uint32_t a = 0; a < kRimSectors / 2; ++a) {
+    double cc = 0, dc = 0;
+    for (uint32_t k = 0; k < kRimSectors; ++k) {
+      const double c = turn[(k + kRimSectors - a) % kRimSectors];
+      cc += c * c;
+      dc += d[k] * c;
+    }
+    const double shift = dc / cc;
+    double res = 0;
+    for (uint32_t k = 0; k < kRimSectors; ++k) {
+      const double e = d[k] - shift * turn[(k + kRimSectors - a) % kRimSectors];
+      res += e * e;
+    }
+    best = std::min(best, res);
+  }
+  w.fit = best / flat;
+  return w;
 }
 
 uint32_t wall_above_sectors(const Occupancy &o) {

@@ -309,6 +309,12 @@ struct Occupancy {
   // the mouth, where a single scan has next to nothing (a pass slipped
   // sideways puts its ground or wall top there, over the other's void).
   uint64_t rim_level, over_mouth;
+  // Per kRimSectors sector, the points from the bottom to kShiftTopMm under
+  // the rim within kOnWallMm of the wall grid's value at their height and
+  // angle, and those kBehindFromMm to kBehindToMm behind it, with the sum
+  // of their distances behind (shifted_wall()).
+  uint32_t on_wall[kRimSectors], behind[kRimSectors];
+  double behind_mm[kRimSectors];
 };
 constexpr double kMouthBandMm = 1.5;
 constexpr double kMouthMarginMm = 5.0;
@@ -326,6 +332,24 @@ struct SecondLevel {
   uint32_t sectors, top_sectors;  // sectors its points / the top's lie in
 };
 SecondLevel second_level(const Occupancy &o);
+// A pass slipped sideways by more than the ghost window (ghost_mm) whose
+// two wall tops were read as a vessel's lip: capped there, the model keeps
+// the inner of the two walls all round (the pits' intersection) and the
+// other pass's wall lies behind it, by the shift times |cos| of the angle
+// to it, two opposite sides at the full shift and none across them. A
+// vessel's outer wall lies behind its inner one by about the lip's width
+// all round. share: the points behind over those on the wall; fit: the
+// squared residual of the sectors' mean distances behind (0 for a sector
+// with under kMinBehindPoints or kMinBehindShare of its wall's points)
+// about D |cos(angle - a)| at the best a and D, over their residual about
+// their mean (1 where all are equal).
+constexpr double kOnWallMm = 1.5, kBehindFromMm = 3.0, kBehindToMm = 40.0, kShiftTopMm = 3.0;
+constexpr uint32_t kMinBehindPoints = 5;
+constexpr double kMinBehindShare = 0.05;
+struct ShiftedWall {
+  double share, fit;
+};
+ShiftedWall shifted_wall(const Occupancy &o);
 // The wall going on above the rim: the sectors with kMinWallAbovePoints or
 // more points over the rim at the wall's top, at least kMinWallAboveShare
 // of the points as far under it on the wall. A rim found below the top of

@@ -146,6 +146,12 @@ std::string check_figures(const pv_result_t &r) {
                     "%.1f %% of the points at the rim's height lie over the mouth (one scan: at most %.1f %%)",
                     100 * r.check_value, 100 * r.check_limit);
       break;
+    case PV_PIT_CHECK_SHIFTED_WALL:
+      std::snprintf(b, sizeof b,
+                    "%.0f %% of the wall's points lie behind it as one sideways shift puts them (one scan: at "
+                    "most %.0f %%)",
+                    100 * r.check_value, 100 * r.check_limit);
+      break;
     default: std::snprintf(b, sizeof b, "no figure"); break;
   }
   return b;

@@ -161,6 +161,7 @@ void pv_advice_refusal(const pv_result_t *r, pv_status_t st, pv_advice_t *out) {
           snprintf(todo, ct, "rescan in one steady pass");
           return;
         case PV_PIT_CHECK_OVER_MOUTH:
+        case PV_PIT_CHECK_SHIFTED_WALL:
           /* Two passes shifted sideways: the scanner lost its tracking. */
           snprintf(why, cw, "passes shifted sideways");
           snprintf(todo, ct, "rescan in one steady pass");

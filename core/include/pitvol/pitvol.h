@@ -107,12 +107,19 @@ typedef enum pv_pit_check {
                                      below the step (the top seen by one
                                      pass of two slipped apart in height);
                                      limit: the least a single scan shows */
-  PV_PIT_CHECK_OVER_MOUTH = 12    /* value: the share of the points at the
+  PV_PIT_CHECK_OVER_MOUTH = 12,   /* value: the share of the points at the
                                      rim's height that lie over the mouth,
                                      5 mm or more inside the wall's top (a
                                      pass slipped sideways: its ground or
                                      wall top over the other's void); limit:
                                      the most a single scan shows */
+  PV_PIT_CHECK_SHIFTED_WALL = 13  /* value: the share of the wall's points
+                                     lying 3-40 mm behind it, where their
+                                     distance round the wall follows one
+                                     sideways shift (a pass slipped sideways
+                                     past 8 mm, its two wall tops read as a
+                                     vessel's lip); limit: the most a single
+                                     scan shows with such a pattern */
 } pv_pit_check_t;
 /* "PV_PIT_CHECK_POINTS_INSIDE", ... */
 const char *pv_pit_check_name(uint32_t check);

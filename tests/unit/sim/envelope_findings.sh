@@ -370,4 +370,15 @@ sweep_args="--family elliptical --condition slip_lateral" measure 20 1313
 # fresh seed 1317, looked at for this). The gap follows the lip's width.
 sweep_args="--family cylinder --condition arc" measure 199 1317
 [ "$status" = PV_OK ] && inside || fail "1317/199 (vessel, 4.1 mm lip, arc): $status $check $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 57 cases as expected"
+# A second pass 10.6 mm aside in a 146 mm wide textured pit without
+# surround: past the doubled wall's 8 mm window, its two wall tops read as
+# a vessel's lip, the model kept the inner of the two walls all round (the
+# pits' intersection): -7.7 % with PV_OK outside +/- 0.8 % (tuning seed
+# 1313). The other pass's wall behind it, as one shift puts it, refuses it.
+sweep_args="--family textured --condition slip_lateral" measure 63 1313
+[ "$status" = PV_ERR_NOT_A_PIT ] && [ "$check" = PV_PIT_CHECK_SHIFTED_WALL ] ||
+  fail "1313/063 (lateral slip past the window, read as a vessel): $status $check $volume +/- $interval cm3 against $exact"
+# Its single pass measures.
+twin=1 sweep_args="--family textured --condition slip_lateral" measure 63 1313
+[ "$status" = PV_OK ] && inside || fail "1313/063 1x: $status $check $volume +/- $interval cm3 against $exact"
+echo "envelope findings: 59 cases as expected"

@@ -278,6 +278,61 @@ void coarse_bowl_floods_its_sides(void **) {
   expect_coarse_better("bowl", pts, p.depth, truth);
 }
 
+// The wall behind the wall (surface::shifted_wall): a second pass shifted
+// sideways by s lies s |cos| behind the first in each direction, nothing
+// behind across the shift; a vessel's outer wall lies a lip's width behind
+// all round, seen where the path went outside.
+pv::surface::Occupancy behind_wall(const double *mm, const uint32_t *count) {
+  pv::surface::Occupancy o{};
+  for (uint32_t k = 0; k < pv::surface::kRimSectors; ++k) {
+    o.on_wall[k] = 100;
+    o.behind[k] = count[k];
+    o.behind_mm[k] = mm[k] * count[k];
+  }
+  return o;
+}
+
+void sideways_shift_follows_cos(void **) {
+  constexpr uint32_t n = pv::surface::kRimSectors;
+  double mm[n];
+  uint32_t count[n], behind = 0;
+  for (uint32_t k = 0; k < n; ++k) {
+    // Shifted 10 mm towards sector 4's centre; within 3 mm nothing counts.
+    const double d = 10.0 * std::fabs(std::cos(2.0 * kPi * (double(k) - 4.0) / n));
+    mm[k] = d;
+    count[k] = d > pv::surface::kBehindFromMm ? 70 : 0;
+    behind += count[k];
+  }
+  const pv::surface::ShiftedWall w = pv::surface::shifted_wall(behind_wall(mm, count));
+  assert_true(w.fit < 0.05);
+  assert_true(std::fabs(w.share - behind / (100.0 * n)) < 1e-12);
+}
+
+void vessel_outer_wall_is_no_shift(void **) {
+  constexpr uint32_t n = pv::surface::kRimSectors;
+  double mm[n];
+  uint32_t count[n];
+  // An 8 mm lip; the outer wall seen over two arcs of the path (0-90 and
+  // 180-250 deg), the widths within 1 mm.
+  for (uint32_t k = 0; k < n; ++k) {
+    const bool seen = k < 9 || (k >= 18 && k < 25);
+    mm[k] = 8.0 + ((k % 3) - 1.0) * 0.5;
+    count[k] = seen ? 40 : 0;
+  }
+  assert_true(pv::surface::shifted_wall(behind_wall(mm, count)).fit > 0.3);
+  // Seen all round, every sector alike: nothing to fit.
+  for (uint32_t k = 0; k < n; ++k) {
+    mm[k] = 8.0;
+    count[k] = 40;
+  }
+  assert_true(pv::surface::shifted_wall(behind_wall(mm, count)).fit == 1.0);
+  // A few strays behind a sector count for nothing.
+  for (uint32_t k = 0; k < n; ++k) count[k] = k == 5 ? 4 : 0;
+  const pv::surface::ShiftedWall strays = pv::surface::shifted_wall(behind_wall(mm, count));
+  assert_true(strays.fit == 1.0);
+  assert_true(strays.share < 0.01);
+}
+
 }  // namespace
 
 int main() {
@@ -291,6 +346,8 @@ int main() {
       cmocka_unit_test(removed_band_is_bridged_within_interval),
       cmocka_unit_test(coarse_ellipse_borrows_slope),
       cmocka_unit_test(coarse_bowl_floods_its_sides),
+      cmocka_unit_test(sideways_shift_follows_cos),
+      cmocka_unit_test(vessel_outer_wall_is_no_shift),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
