@@ -355,10 +355,12 @@ void widest_unseen_band(const pv_result_t &r, double rim_mm, double *from, doubl
 // slip_floor_check is false).
 // second: the surround's second level (all 0 where second_level_applies()
 // does not).
+// occupancy_checks: the over-mouth and shifted-wall counts decide (every
+// grid but the MCU's coarse one, as second_level_applies()).
 pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
                          const surface::FloorWeights &fw,
                          const surface::SecondLevel &second, const ThinTop &top, bool ghost_checks,
-                         bool floor_check, bool slip_floor_check, bool mouth_check, bool shift_check,
+                         bool floor_check, bool slip_floor_check, bool occupancy_checks,
                          double rim_area_mm2,
                          double max_section_mm2,
                          double tilt_deg, double max_tilt_deg, double max_radius_mm,
@@ -394,14 +396,14 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
     return refuse(PV_PIT_CHECK_DOUBLED_RIM, second.ratio, kMaxSecondLevel);
   }
   if (top.ratio < kMinThinTopRatio) return refuse(PV_PIT_CHECK_THIN_TOP, top.ratio, kMinThinTopRatio);
-  if (mouth_check && occ.over_mouth >= kMinOverMouthPoints) {
+  if (occupancy_checks && occ.over_mouth >= kMinOverMouthPoints) {
     const double over = double(occ.over_mouth) / double(occ.rim_level);
     if (over > kMaxOverMouthShare) return refuse(PV_PIT_CHECK_OVER_MOUTH, over, kMaxOverMouthShare);
   }
   if (ghost_checks && m.ghost_contrast > kMaxGhostContrast) {
     return refuse(PV_PIT_CHECK_DOUBLED_WALL, m.ghost_contrast, kMaxGhostContrast);
   }
-  if (shift_check && m.vessel_lip) {
+  if (occupancy_checks && m.vessel_lip) {
     const surface::ShiftedWall sw = surface::shifted_wall(occ);
     if (sw.fit < kMaxShiftFit && sw.share > kMaxShiftedShare) {
       return refuse(PV_PIT_CHECK_SHIFTED_WALL, sw.share, kMaxShiftedShare);
@@ -525,7 +527,7 @@ pv_status_t build_and_check_at(pv_session *s, const levelling::Transform &t, dou
   const surface::FloorWeights fw =
       slip_floor_check ? weigh_floor(s, t, stride, c->p, c->m) : surface::FloorWeights{};
   if (check_pit(c->occ, c->m, fw, second, top, ghost_checks, floor_check, slip_floor_check,
-                second_level_applies(c->p), second_level_applies(c->p),
+                second_level_applies(c->p),
                 c->v.rim_area_mm2, max_section,
                 out->tilt_deg, double(s->cfg.max_opening_tilt_deg),
                 scale * double(s->cfg.surface_max_radius_mm), c->v.volume_mm3,

@@ -1875,6 +1875,9 @@ ShiftedWall shifted_wall(const Occupancy &o) {
   for (const double v : d) flat += (v - mean) * (v - mean);
   if (!(flat > 0)) return w;
   // |cos| repeats every half turn: the shift's direction in the first half.
+  // The least-squares shift D = dc / cc leaves dd - dc^2 / cc.
+  double dd = 0;
+  for (const double v : d) dd += v * v;
   double best = HUGE_VAL;
   for (uint32_t a = 0; a < kRimSectors / 2; ++a) {
     double cc = 0, dc = 0;
@@ -1883,13 +1886,7 @@ ShiftedWall shifted_wall(const Occupancy &o) {
       cc += c * c;
       dc += d[k] * c;
     }
-    const double shift = dc / cc;
-    double res = 0;
-    for (uint32_t k = 0; k < kRimSectors; ++k) {
-      const double e = d[k] - shift * turn[(k + kRimSectors - a) % kRimSectors];
-      res += e * e;
-    }
-    best = std::min(best, res);
+    best = std::min(best, dd - dc * dc / cc);
   }
   w.fit = best / flat;
   return w;
