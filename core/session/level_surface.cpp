@@ -385,11 +385,11 @@ Opening level_from_turned_axis(pv_session *s, const levelling::Transform &start,
 
 }  // namespace
 
-Opening level_for_surface(pv_session *s, levelling::Transform *t) {
+Opening level_for_surface(pv_session *s, levelling::Transform *t, SurfaceStart from) {
   Opening o;
   levelling::Transform from_floor = *t;
   const bool floor_found = level_on_opening(s, &from_floor, &o);
-  if (floor_found && !faces_sideways(from_floor)) {
+  if (floor_found && from == SurfaceStart::floor_plane && !faces_sideways(from_floor)) {
     const double bottom = bottom_mm(s, from_floor);
     if (bottom > kFloatingBottomMm) bottom_to_zero(bottom, &from_floor, &o);
     *t = from_floor;
@@ -409,18 +409,22 @@ Opening level_for_surface(pv_session *s, levelling::Transform *t) {
   const Eigen::Vector3d up = (scanner_up || scanner_z.z() >= 0) ? scanner_z : Eigen::Vector3d(-scanner_z);
   rotate_onto_z(up, &upright);
   Opening from_upright;
-  if (!level_on_opening(s, &upright, &from_upright) || (floor_found && faces_sideways(upright))) {
-    const Opening turned = level_from_turned_axis(s, start, up, t);
+  if (from == SurfaceStart::turned_axis || !level_on_opening(s, &upright, &from_upright) ||
+      (floor_found && faces_sideways(upright))) {
+    Opening turned = level_from_turned_axis(s, start, up, t);
+    turned.start = SurfaceStart::turned_axis;
     if (turned.found) return turned;
-    if (!floor_found) return Opening{};
+    if (!floor_found || from != SurfaceStart::floor_plane) return Opening{};
     // Nothing better: the sideways frame, for the checks to refuse.
     *t = from_floor;
     o.found = true;
+    o.start = SurfaceStart::turned_axis;  // every start tried
     return o;
   }
   bottom_to_zero(bottom_mm(s, upright), &upright, &from_upright);
   *t = upright;
   from_upright.found = true;
+  from_upright.start = SurfaceStart::axis;
   return from_upright;
 }
 

@@ -135,11 +135,16 @@ void refine(pv_session *s) {
 
 }  // namespace
 
-levelling::Status fit_sample(pv_session *s, levelling::Transform *t,
-                             const Eigen::Matrix3d *start) {
+void load_sample(pv_session *s) {
   s->sample.canonical(s->sample_sorted);
   const uint32_t n = s->sample.size();
   for (uint32_t i = 0; i < n; ++i) s->sample_points[i] = s->sample_sorted[i].p;
+}
+
+levelling::Status fit_sample(pv_session *s, levelling::Transform *t,
+                             const Eigen::Matrix3d *start) {
+  load_sample(s);
+  const uint32_t n = s->sample.size();
   levelling::Params p;
   p.bottom_band_ratio = s->cfg.bottom_band_ratio;
   p.plane_tol_ratio = s->cfg.plane_tol_ratio;
@@ -295,6 +300,7 @@ void reset_counters(pv_session *s) {
   session::set_provisional(s, levelling::Transform{});
   s->past_map_count = 0;
   s->repeat_mode = false;
+  s->surface_start = 0;
   s->have_transform = false;
   s->have_fit = false;
   s->next_refine_at = 0;

@@ -117,6 +117,11 @@ struct pv_session {
   bool have_fit;
   bool repeat_mode;  // session.cpp, start_repeat_mode()
   uint8_t past_map_count;  // of past_maps below
+  // The start method surface's last measure() levelled from (a
+  // SurfaceStart: later than the floor plane's where the frame from that
+  // was refused, measure.cpp, kRetriedChecks). The transform query levels
+  // the same way.
+  uint8_t surface_start;
 
   uint64_t points_in;
   uint64_t points_invalid;
@@ -187,6 +192,9 @@ size_t layout(const pv_config_t &cfg, unsigned char *block, pv_session *s);
 // Fits the levelling transform on the canonical (sorted) sample. The
 // provisional refinements and the final fit share it, so they cannot differ
 // in anything but the points seen so far.
+// The canonical sample into s->sample_points (scratch: the surface model
+// overlays it), as fit_sample() reads it.
+void load_sample(pv_session *s);
 // start: see levelling::estimate (NULL: the full, order-independent fit).
 levelling::Status fit_sample(pv_session *s, levelling::Transform *t,
                              const Eigen::Matrix3d *start = nullptr);
@@ -198,6 +206,9 @@ pv_status_t measure(pv_session *s, pv_result_t *out);
 // when the scan has one, else the rim plane (the wall's top edge), else the
 // support plane, from the floor-plane frame, then from the scanner-upright
 // one (level_surface.cpp).
+// Where level_for_surface() starts: the floor plane's frame, the
+// scanner's axis, the scanner's axis turned 30 and 50 deg.
+enum class SurfaceStart : uint8_t { floor_plane, axis, turned_axis };
 struct Opening {
   // A plane of the opening was found (else t is the floor plane's frame,
   // which on a pit without a flat floor can be 10-40 deg off).
@@ -208,8 +219,14 @@ struct Opening {
   // Levelled on the ground: its plane's height, the rim where the ground's
   // peak is not found (sparse ground under strays); else negative.
   double ground_mm = -1.0;
+  // The start whose frame it is; turned_axis also where every start was
+  // tried and the floor plane's sideways frame stayed.
+  SurfaceStart start = SurfaceStart::floor_plane;
 };
-Opening level_for_surface(pv_session *s, levelling::Transform *t);
+// from: the first start tried (the later ones follow where it finds no
+// opening facing the scanner).
+Opening level_for_surface(pv_session *s, levelling::Transform *t,
+                          SurfaceStart from = SurfaceStart::floor_plane);
 // Method surface measures below the opening: true where none was found
 // from either start (level_surface.cpp says where that is not refused).
 bool opening_missing(const pv_session *s, const Opening &o);

@@ -42,9 +42,9 @@ pv_status_t query(pv_session *s, pv_transform_t *out) {
     case levelling::Status::NoPlane: return PV_ERR_NO_BOTTOM_PLANE;
   }
   // As measure(): method surface re-levels (ground ring, else rim plane)
-  // before the layers are assigned.
+  // before the layers are assigned, from the start the last measure() took.
   Opening opening;
-  if (s->cfg.method == PV_METHOD_SURFACE) opening = level_for_surface(s, &t);
+  if (s->cfg.method == PV_METHOD_SURFACE) opening = level_for_surface(s, &t, SurfaceStart(s->surface_start));
   layer_weights(s, t);
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) out->rotation[3 * r + c] = t.R(r, c);

@@ -381,4 +381,17 @@ sweep_args="--family textured --condition slip_lateral" measure 63 1313
 # Its single pass measures.
 twin=1 sweep_args="--family textured --condition slip_lateral" measure 63 1313
 [ "$status" = PV_OK ] && inside || fail "1313/063 1x: $status $check $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 59 cases as expected"
+# A rounded bowl 87 L held 58 deg off: the floor-plane start settled 22
+# deg off it and found an opening whose section was a sixth of the pit's
+# below it, refused NARROW_MOUTH (tuning seed 1311). The frame from the
+# scanner's axis, 94 deg from that one, measures it.
+sweep_args="--family rounded_bowl --condition tilted" measure 59 1311
+[ "$status" = PV_OK ] && inside || fail "1311/059 (rounded bowl held 58 deg off): $status $check $volume +/- $interval cm3 against $exact"
+# A second pass 12 mm aside in a 785 mm deep pit without surround,
+# refused POINTS_INSIDE; the scanner's axis gives the same frame (0.02 deg
+# from it), from which it reads -1.5 % outside +/- 0.3 % with PV_OK
+# (tuning seed 1314): the refusal was the pit's, not the frame's.
+sweep_args="--family deep_narrow --condition slip_lateral" measure 21 1314
+[ "$status" = PV_ERR_NOT_A_PIT ] && [ "$check" = PV_PIT_CHECK_POINTS_INSIDE ] ||
+  fail "1314/021 (lateral slip, same frame from the axis): $status $check $volume +/- $interval cm3 against $exact"
+echo "envelope findings: 61 cases as expected"
