@@ -338,8 +338,11 @@ struct Candidate {
 };
 
 // up: the scanner's axis, the way the upright start took it.
+// grounds_first: a ground found from any start wins over other planes
+// (the first levelling); else the plane most starts agree on, a ground on
+// a tie (a retry after a refused frame: measure.cpp).
 Opening level_from_turned_axis(pv_session *s, const levelling::Transform &start,
-                               const Eigen::Vector3d &up, levelling::Transform *t) {
+                               const Eigen::Vector3d &up, bool grounds_first, levelling::Transform *t) {
   const Eigen::Vector3d a = up.unitOrthogonal(), b = up.cross(a);
   Candidate c[kStarts];
   size_t n = 0;
@@ -359,10 +362,10 @@ Opening level_from_turned_axis(pv_session *s, const levelling::Transform &start,
   int best_votes = 0;
   for (size_t i = 0; i < n; ++i) {
     const bool ground = on_ground(c[i].o);
-    if (any_ground && !ground) continue;
+    if (grounds_first && any_ground && !ground) continue;
     int votes = 0;
     for (size_t j = 0; j < n; ++j) votes += (on_ground(c[j].o) == ground && agree(c[i].t, c[j].t)) ? 1 : 0;
-    if (votes > best_votes) {
+    if (votes > best_votes || (best < n && votes == best_votes && ground && !on_ground(c[best].o))) {
       best = i;
       best_votes = votes;
     }
@@ -411,7 +414,7 @@ Opening level_for_surface(pv_session *s, levelling::Transform *t, SurfaceStart f
   Opening from_upright;
   if (from == SurfaceStart::turned_axis || !level_on_opening(s, &upright, &from_upright) ||
       (floor_found && faces_sideways(upright))) {
-    Opening turned = level_from_turned_axis(s, start, up, t);
+    Opening turned = level_from_turned_axis(s, start, up, from == SurfaceStart::floor_plane, t);
     turned.start = SurfaceStart::turned_axis;
     if (turned.found) return turned;
     if (!floor_found || from != SurfaceStart::floor_plane) return Opening{};
