@@ -189,12 +189,12 @@ namespace pv::session {
 
 // Lays the session out in block (or counts bytes when block is null).
 size_t layout(const pv_config_t &cfg, unsigned char *block, pv_session *s);
-// Fits the levelling transform on the canonical (sorted) sample. The
-// provisional refinements and the final fit share it, so they cannot differ
-// in anything but the points seen so far.
 // The canonical sample into s->sample_points (scratch: the surface model
 // overlays it), as fit_sample() reads it.
 void load_sample(pv_session *s);
+// Fits the levelling transform on the canonical (sorted) sample. The
+// provisional refinements and the final fit share it, so they cannot differ
+// in anything but the points seen so far.
 // start: see levelling::estimate (NULL: the full, order-independent fit).
 levelling::Status fit_sample(pv_session *s, levelling::Transform *t,
                              const Eigen::Matrix3d *start = nullptr);
@@ -202,10 +202,6 @@ levelling::Status fit_sample(pv_session *s, levelling::Transform *t,
 void establish_transform(pv_session *s);
 // estimate() and finish() share this; it reads the bins, writes scratch.
 pv_status_t measure(pv_session *s, pv_result_t *out);
-// Method surface: re-levels t on the plane of the opening: the ground ring
-// when the scan has one, else the rim plane (the wall's top edge), else the
-// support plane, from the floor-plane frame, then from the scanner-upright
-// one (level_surface.cpp).
 // Where level_for_surface() starts: the floor plane's frame, the
 // scanner's axis, the scanner's axis turned 30 and 50 deg.
 enum class SurfaceStart : uint8_t { floor_plane, axis, turned_axis };
@@ -223,8 +219,12 @@ struct Opening {
   // tried and the floor plane's sideways frame stayed.
   SurfaceStart start = SurfaceStart::floor_plane;
 };
-// from: the first start tried (the later ones follow where it finds no
-// opening facing the scanner).
+// Method surface: re-levels t on the plane of the opening: the ground ring
+// when the scan has one, else the rim plane (the wall's top edge), else the
+// support plane, from the floor-plane frame, then from the scanner-upright
+// one, then from that turned (level_surface.cpp). from: the first start
+// tried (the later ones follow where it finds no opening facing the
+// scanner).
 Opening level_for_surface(pv_session *s, levelling::Transform *t,
                           SurfaceStart from = SurfaceStart::floor_plane);
 // Method surface measures below the opening: true where none was found
