@@ -585,7 +585,7 @@ pv_status_t build_and_check(pv_session *s, const levelling::Transform &t, double
 }  // namespace
 
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
-                            pv_result_t *out) {
+                            double lid_shift, pv_result_t *out) {
   CheckedModel c;
   const pv_status_t st = build_and_check(s, t, rim_mm, out, &c);
   // The section per 0.5 mm step goes to the layer detail (pv_session_layers),
@@ -634,7 +634,10 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   const double unseen_ramp = std::min(1.0, out->unseen_share / calibrated_unseen_share());
   interval_mm3 += kUnseenRelInterval * unseen_ramp * unseen_ramp * v.unseen_mm3;
   if (out->unseen_share > calibrated_unseen_share()) interval_mm3 += v.unseen_mm3;
-  out->volume_cm3 = v.volume_mm3 / 1000.0;
+  // The lid where the points about the rim plane put it, the section under
+  // it carried up or down to it (tenths of a millimetre).
+  out->depth_mm += lid_shift;
+  out->volume_cm3 = (v.volume_mm3 + lid_shift * v.rim_area_mm2) / 1000.0;
   out->interval_cm3 = interval_mm3 / 1000.0;
   out->status = PV_OK;
   return PV_OK;

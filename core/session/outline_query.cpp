@@ -31,7 +31,8 @@ pv_status_t query(pv_session *s, pv_wall_grid_t *grid, float *radius_mm, uint8_t
                   size_t capacity) {
   if (s->cfg.method != PV_METHOD_SURFACE) return PV_ERR_WRONG_STATE;
   pv_transform_t tf;
-  const pv_status_t st = pv_session_transform(s, &tf);
+  double model_rim_mm = 0.0;  // the rim finish() built the model at; tf.rim_mm is the lid
+  const pv_status_t st = transform_query(s, &tf, &model_rim_mm);
   if (st != PV_OK) return st;
   levelling::Transform t;
   for (int r = 0; r < 3; ++r) {
@@ -40,7 +41,7 @@ pv_status_t query(pv_session *s, pv_wall_grid_t *grid, float *radius_mm, uint8_t
   }
   const surface::Params p = surface_params(s->cfg);
   surface::Model m;
-  const surface::Status bs = build_surface_model(s, t, tf.rim_mm, 1, p, &m);  // as finish()
+  const surface::Status bs = build_surface_model(s, t, model_rim_mm, 1, p, &m);  // as finish()
   if (bs == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;
   if (bs != surface::Status::Ok) return PV_ERR_TOO_FEW_LAYERS;
   grid->axis_x_mm = m.axis.cx0;
@@ -49,7 +50,7 @@ pv_status_t query(pv_session *s, pv_wall_grid_t *grid, float *radius_mm, uint8_t
   grid->axis_dy = m.axis.cy1;
   grid->z0_mm = m.z0_mm;
   grid->dz_mm = p.dz_mm;
-  grid->rim_mm = m.rim_mm;
+  grid->rim_mm = tf.rim_mm;  // as depth_mm
   grid->theta_bins = s->surf.cap.theta_bins;
   grid->z_bins = m.z_bins;
   const size_t n = size_t(grid->theta_bins) * grid->z_bins;

@@ -4,7 +4,8 @@
 // (final fit on the canonical sample; method surface: re-levelled on the
 // plane of the opening, level_for_surface(); rim from that plane, else the
 // ground peak, else the wall top over the per-layer
-// weights) rather than caching them in the session,
+// weights; the lid, as depth_mm, where the rim plane's points put it)
+// rather than caching them in the session,
 // so the session layout does not change for a query tool. Keep it in step
 // with measure.cpp (test_transform_query checks they agree).
 #include <cmath>
@@ -33,7 +34,9 @@ void layer_weights(pv_session *s, const levelling::Transform &t) {
   }
 }
 
-pv_status_t query(pv_session *s, pv_transform_t *out) {
+}  // namespace
+
+pv_status_t transform_query(pv_session *s, pv_transform_t *out, double *model_rim_mm) {
   establish_transform(s);
   levelling::Transform t;
   switch (fit_sample(s, &t)) {
@@ -53,30 +56,30 @@ pv_status_t query(pv_session *s, pv_transform_t *out) {
   // As measure(): the opening's rim, else the wall's top.
   const Rim lid = opening_rim(s, t, opening);
   out->rim_from_ground = lid.from_ground ? 1u : 0u;
-  out->rim_mm = lid.found ? lid.mm : rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
-  if (!(out->rim_mm > 0.0) || opening_missing(s, opening)) {
+  *model_rim_mm = lid.found ? lid.mm : rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
+  out->rim_mm = lid.found ? lid.mm + lid_shift_mm(opening) : *model_rim_mm;  // as depth_mm
+  if (!(*model_rim_mm > 0.0) || opening_missing(s, opening)) {
     out->rim_mm = -1.0;
     return PV_ERR_NO_RIM;
   }
   return PV_OK;
 }
 
-}  // namespace
-
 }  // namespace pv::session
 
 extern "C" pv_status_t pv_session_transform(pv_session_t *s, pv_transform_t *out) {
   if (s == nullptr || out == nullptr) return PV_ERR_INVALID_ARGUMENT;
   std::memset(out, 0, sizeof *out);
+  double model_rim_mm = 0.0;
 #if defined(__cpp_exceptions)  // as pv_session_finish: nothing escapes the ABI
   try {
-    return pv::session::query(s, out);
+    return pv::session::transform_query(s, out, &model_rim_mm);
   } catch (const std::bad_alloc &) {
     return PV_ERR_OUT_OF_MEMORY;
   } catch (...) {
     return PV_ERR_INTERNAL;
   }
 #else
-  return pv::session::query(s, out);
+  return pv::session::transform_query(s, out, &model_rim_mm);
 #endif
 }
