@@ -289,10 +289,17 @@ static pv_status_t surface_measure(pv_session *s, const levelling::Transform &t,
 // 20-30 deg off a scan held 40-60 deg off (a rounded bowl, a pit without
 // surround), or the right plane the wrong way up, finds an opening whose
 // section is smaller than the pit's below it (NARROW_MOUTH), wall inside
-// the void (POINTS_INSIDE) or an opening facing away (OPENING_TILT).
+// the void (POINTS_INSIDE) or an opening facing away (OPENING_TILT). And a
+// rim above the grid's top (DEPTH_EXCEEDS_CAPACITY from rim_in_frame): a
+// 1.1 m shallow pit without surround held 46 deg off found no opening from
+// the floor plane or the axis; two turned starts found a "ground" along
+// its side, taken first, the rim 1123 mm (its width) over its bottom
+// (seed 1324 #499). measure()'s own depth check, on the points above the
+// grid at push, still follows whichever frame measures.
 constexpr pv_pit_check_t kRetriedChecks[] = {PV_PIT_CHECK_NARROW_MOUTH, PV_PIT_CHECK_POINTS_INSIDE,
                                              PV_PIT_CHECK_OPENING_TILT};
 static bool frame_refused(const pv_result_t &r) {
+  if (r.status == PV_ERR_DEPTH_EXCEEDS_CAPACITY) return true;
   if (r.status != PV_ERR_NOT_A_PIT) return false;
   for (pv_pit_check_t c : kRetriedChecks) {
     if (r.failed_check == uint32_t(c)) return true;
@@ -311,8 +318,10 @@ constexpr double kMinFrameTurnCos = 0.86602540378443865;  // cos 30 deg
 // Method surface from the floor-plane start, and from the later starts
 // (level_surface.cpp: the scanner's axis, then that axis turned) where the
 // frame was refused (kRetriedChecks) and a later start gives another
-// (kMinFrameTurnCos). Each frame is held to the same checks; where all are
-// refused, the first frame's refusal stands. The session's scratch (the
+// (kMinFrameTurnCos); a first frame from the turned axis (grounds first)
+// is retried there (the plane most starts agree on). Each frame is held
+// to the same checks; where all are refused, the first frame's refusal
+// stands. The session's scratch (the
 // model, the layer detail) holds the frame whose result is given: the
 // first is measured again then. The model overlays the levelling's sample
 // (session.cpp, layout()): it is loaded again before each levelling.
@@ -325,7 +334,8 @@ static pv_status_t surface_in_frame(pv_session *s, levelling::Transform *t, pv_r
   if (st == PV_OK || !frame_refused(*out)) return st;
   const Eigen::Vector3d first_up = t->R.row(2);
   bool measured_again = false;
-  for (int from = int(opening.start) + 1; from <= int(SurfaceStart::turned_axis); ++from) {
+  const int turned = int(SurfaceStart::turned_axis);
+  for (int from = std::min(int(opening.start) + 1, turned); from <= turned; ++from) {
     levelling::Transform next = floor_frame;
     load_sample(s);
     const Opening o = level_for_surface(s, &next, SurfaceStart(from));
