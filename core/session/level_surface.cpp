@@ -257,30 +257,9 @@ void bottom_to_zero(double bottom, levelling::Transform *t, Opening *o) {
 // ground, too steep for it to be found there), and the pit's bottom may
 // lie far below z = 0.
 void settle_after_turn(pv_session *s, levelling::Transform *t, Opening *o) {
-  if (level_on_ground(s, t, &o->ground_mm)) {
-    o->rim_mm = -1.0;
-    o->lid_shift_mm = 0.0;
-  }
+  if (level_on_ground(s, t, &o->ground_mm)) o->rim_mm = -1.0;
   const double bottom = bottom_mm(s, *t);
   if (bottom < -kLostBottomMm) bottom_to_zero(bottom, t, o);
-}
-
-// The lid's height against the rim plane's in frame t (levelled on it),
-// from the stored points about the plane (rim/rim_profile.h). The floor
-// store's points too: they lie far under the rim unless the warm-up's
-// frame was upside down (sector_tops()), and then they are the top.
-void add_to_profile(const binning::LayerBins &bins, const levelling::Transform &t, double plane_mm,
-                    rim::RimProfile *profile) {
-  for (uint32_t b = 0; b < bins.layers(); ++b) {
-    const double w = std::ldexp(1.0, bins.level(b));  // points each one stands for
-    for (uint32_t i = 0; i < bins.count(b); ++i) profile->add(t.level_z(bins.points(b)[i]) - plane_mm, w);
-  }
-}
-double profiled_lid_shift_mm(const pv_session *s, const levelling::Transform &t, double plane_mm) {
-  rim::RimProfile profile;
-  add_to_profile(s->bins, t, plane_mm, &profile);
-  add_to_profile(s->floor_bins, t, plane_mm, &profile);
-  return rim::rim_offset_mm(profile);
 }
 
 // The ground (strict), else the rim plane, else the support plane, else a
@@ -298,7 +277,7 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, Opening *o) {
     // z = d (its normal is +Z, its offset unchanged by a rotation about the
     // origin).
     o->rim_mm = rp.d;
-    o->lid_shift_mm = profiled_lid_shift_mm(s, *t, rp.d);
+    o->rim_plane = true;
     if (rp.steep) settle_after_turn(s, t, o);
     return true;
   }
@@ -322,7 +301,7 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, Opening *o) {
   if (!rp.partial) return false;
   rotate_onto_z(rp.normal, t);
   o->rim_mm = rp.d;
-  o->lid_shift_mm = profiled_lid_shift_mm(s, *t, rp.d);
+  o->rim_plane = true;
   return true;
 }
 
@@ -410,6 +389,18 @@ Opening level_from_turned_axis(pv_session *s, const levelling::Transform &start,
   return k.o;
 }
 
+// The store's points about the rim, each weighing the points its bin's
+// thinning level stands for. The floor store's too: they lie far under the
+// rim unless the warm-up's frame was upside down (sector_tops()), and then
+// they are the top.
+void add_to_profile(const binning::LayerBins &bins, const levelling::Transform &t, double rim_mm,
+                    rim::RimProfile *profile) {
+  for (uint32_t b = 0; b < bins.layers(); ++b) {
+    const double w = std::ldexp(1.0, bins.level(b));  // points each one stands for
+    for (uint32_t i = 0; i < bins.count(b); ++i) profile->add(t.level_z(bins.points(b)[i]) - rim_mm, w);
+  }
+}
+
 }  // namespace
 
 Opening level_for_surface(pv_session *s, levelling::Transform *t, SurfaceStart from) {
@@ -478,6 +469,14 @@ Rim opening_rim(pv_session *s, const levelling::Transform &t, const Opening &o) 
   if (g.found) return Rim{true, g.z_mm, true};
   if (o.ground_mm > 0) return Rim{true, o.ground_mm, true};
   return Rim{};
+}
+
+double lid_shift_mm(const pv_session *s, const levelling::Transform &t, const Opening &o) {
+  if (!o.rim_plane || !(o.rim_mm > 0)) return 0.0;
+  rim::RimProfile profile;
+  add_to_profile(s->bins, t, o.rim_mm, &profile);
+  add_to_profile(s->floor_bins, t, o.rim_mm, &profile);
+  return rim::rim_offset_mm(profile);
 }
 
 }  // namespace pv::session

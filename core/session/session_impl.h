@@ -212,10 +212,9 @@ struct Opening {
   // The rim height when a plane other than the ground set it, else
   // negative (the rim stage decides).
   double rim_mm = -1.0;
-  // Where a rim plane set rim_mm: the lid's height against it, from the
-  // points about it (rim/rim_profile.h). The model sorts the points about
-  // rim_mm, as it was made to; the volume closes at the lid.
-  double lid_shift_mm = 0.0;
+  // rim_mm was set by the rim plane (not the support plane): the lid is
+  // read from the points about it (lid_shift_mm()).
+  bool rim_plane = false;
   // Levelled on the ground: its plane's height, the rim where the ground's
   // peak is not found (sparse ground under strays); else negative.
   double ground_mm = -1.0;
@@ -223,9 +222,6 @@ struct Opening {
   // tried and the floor plane's sideways frame stayed.
   SurfaceStart start = SurfaceStart::floor_plane;
 };
-// The lid's height against the rim the model sorts the points about: the
-// profile's where a rim plane set the rim, else 0.
-inline double lid_shift_mm(const Opening &o) { return o.rim_mm > 0 ? o.lid_shift_mm : 0.0; }
 // Method surface: re-levels t on the plane of the opening: the ground ring
 // when the scan has one, else the rim plane (the wall's top edge), else the
 // support plane, from the floor-plane frame, then from the scanner-upright
@@ -246,13 +242,19 @@ struct Rim {
   bool from_ground = false;
 };
 Rim opening_rim(pv_session *s, const levelling::Transform &t, const Opening &o);
+// The lid's height in frame t against the rim the model sorts the points
+// about: where a rim plane set the rim (o.rim_plane, o.rim_mm), from the
+// stored points about it (rim/rim_profile.h: the plane's sector tops are
+// order statistics that rise with the scan's length), else 0. One pass
+// over the store, made only for the frame measured.
+double lid_shift_mm(const pv_session *s, const levelling::Transform &t, const Opening &o);
 // pv_session_transform()'s query (transform_query.cpp): out->rim_mm is
 // the lid (as pv_result_t.depth_mm), model_rim_mm the rim finish() built
 // its surface model at (the wall-grid query builds the same model).
 pv_status_t transform_query(pv_session *s, pv_transform_t *out, double *model_rim_mm);
 // The surface method's part of measure(): from the levelled stored points,
 // the rim and the bottom of the grid to the result (measure_surface.cpp).
-// lid_shift: the lid's height against rim_mm (lid_shift_mm(Opening)).
+// lid_shift: the lid's height against rim_mm (lid_shift_mm()).
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
                             double lid_shift, pv_result_t *out);
 // The surface model of the stored points levelled by t, in s->surf: the

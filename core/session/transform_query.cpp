@@ -57,7 +57,7 @@ pv_status_t transform_query(pv_session *s, pv_transform_t *out, double *model_ri
   const Rim lid = opening_rim(s, t, opening);
   out->rim_from_ground = lid.from_ground ? 1u : 0u;
   *model_rim_mm = lid.found ? lid.mm : rim::wall_top_mm(s->layer_weight, s->grid, s->seq_scratch);
-  out->rim_mm = lid.found ? lid.mm + lid_shift_mm(opening) : *model_rim_mm;  // as depth_mm
+  out->rim_mm = lid.found ? lid.mm + lid_shift_mm(s, t, opening) : *model_rim_mm;  // as depth_mm
   if (!(*model_rim_mm > 0.0) || opening_missing(s, opening)) {
     out->rim_mm = -1.0;
     return PV_ERR_NO_RIM;
