@@ -82,18 +82,24 @@ ThinTop thin_top(const pv_session *s, const levelling::Transform &t, double rim_
   const int k_first = std::max(kBins - kMaxTopMm, int(kAboveBottomMm - lo) + kBelowMm + 1);
   if (k_first > kBins - kMinTopMm) return out;
   float h[kSectors][kBins] = {};
-  const binning::LayerBins &bins = s->bins;
-  for (uint32_t j = 0; j < bins.layers(); ++j) {
-    // Each stored point stands for 2^level points of its bin's layer.
-    const auto w = float(uint64_t{1} << bins.level(j));
-    for (uint32_t i = 0; i < bins.count(j); ++i) {
-      const Eigen::Vector3d v = t.apply(bins.points(j)[i]);
-      const double z = v.z();
-      if (!(z >= lo && z < rim_mm - kTopGapMm)) continue;
-      const int b = std::min(kBins - 1, int(z - lo));
-      const double dx = v.x() - axis.cx(z), dy = v.y() - axis.cy(z);
-      const int a = std::min(kSectors - 1, int(angle_2pi(dy, dx) * (kSectors / kTwoPi)));
-      h[a][b] += w;
+  // Both stores: the floor store holds what lay low in the frame the
+  // points were binned in, and a scan first levelled upside down sent the
+  // wall's top there (level_surface.cpp, floor_on_top). Counted in the
+  // layer store alone, such a top read empty and was refused at 0 (seeds
+  // 1323 #597, 1324 #397: the top 20 mm of a small pit without surround).
+  for (const binning::LayerBins *bins : {&s->bins, &s->floor_bins}) {
+    for (uint32_t j = 0; j < bins->layers(); ++j) {
+      // Each stored point stands for 2^level points of its bin's layer.
+      const auto w = float(uint64_t{1} << bins->level(j));
+      for (uint32_t i = 0; i < bins->count(j); ++i) {
+        const Eigen::Vector3d v = t.apply(bins->points(j)[i]);
+        const double z = v.z();
+        if (!(z >= lo && z < rim_mm - kTopGapMm)) continue;
+        const int b = std::min(kBins - 1, int(z - lo));
+        const double dx = v.x() - axis.cx(z), dy = v.y() - axis.cy(z);
+        const int a = std::min(kSectors - 1, int(angle_2pi(dy, dx) * (kSectors / kTwoPi)));
+        h[a][b] += w;
+      }
     }
   }
   double r[kBins];
