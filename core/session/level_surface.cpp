@@ -167,14 +167,15 @@ bool level_on_ground(pv_session *s, levelling::Transform *t, double *ground_mm, 
   static_assert(sizeof(uint32_t) <= sizeof(Eigen::Vector3d), "index scratch fits");
   rim::GroundPlane gp =
       rim::fit_ground_plane(s->lv.a, n, rp, s->lv.v, reinterpret_cast<uint32_t *>(s->lv.b));
-  if (!gp.found) {
+  if (gp.found) {
+    // (The narrow band's plane below must be that wide in any case.)
+    if (after_turn && ring_width_mm(s, gp) < kMinNarrowRingMm && wall_above(s, gp)) return false;
+  } else {
     rp.top_quantile = kNarrowTopQuantile;
     rp.band_ratio = kNarrowBandRatio;
     gp = rim::fit_ground_plane(s->lv.a, n, rp, s->lv.v, reinterpret_cast<uint32_t *>(s->lv.b));
-    if (gp.found && ring_width_mm(s, gp) < kMinNarrowRingMm) return false;
+    if (!gp.found || ring_width_mm(s, gp) < kMinNarrowRingMm) return false;
   }
-  if (!gp.found) return false;
-  if (after_turn && ring_width_mm(s, gp) < kMinNarrowRingMm && wall_above(s, gp)) return false;
   if (is_ledge(s, gp)) return false;
   rotate_onto_z(gp.normal, t);
   *ground_mm = gp.d;  // a rotation about the origin keeps the plane's offset

@@ -427,7 +427,8 @@ sweep_args="--family bulge --condition long" twin=1 measure 397 1324
 # the wall's top 2 mm (a ring 2.6 mm wide) for a ground 1.4 mm under the
 # rim, -2.8 % outside its interval, refused only because the thin-top
 # check missed the floor store's points (tuning seed 1314). After a turn
-# a ground must be a ring 20 mm wide: the rim plane stays.
+# a plane narrower than a ground ring (20 mm) with the wall going on above
+# it is no ground: the rim plane stays.
 sweep_args="--family hand_dug --condition slip_lateral" twin=1 measure 5 1314
 [ "$status" = PV_OK ] && inside || fail "1314/005 1x (wall's top taken for a ground after a turn): $status $check $volume +/- $interval cm3 against $exact"
 echo "envelope findings: 66 cases as expected"
