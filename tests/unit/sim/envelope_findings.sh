@@ -431,4 +431,17 @@ sweep_args="--family bulge --condition long" twin=1 measure 397 1324
 # it is no ground: the rim plane stays.
 sweep_args="--family hand_dug --condition slip_lateral" twin=1 measure 5 1314
 [ "$status" = PV_OK ] && inside || fail "1314/005 1x (wall's top taken for a ground after a turn): $status $check $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 66 cases as expected"
+# A 3.4 L elliptical pit with grooves and a ground ring: a groove's shadow
+# over its dense upper flank, then the wall again, read as a pass slipped
+# 21 mm (the top 0.27 of the band below): refused THIN_TOP (tuning seed
+# 1324). A slipped pass shows its own ground ring at the step's depth; this
+# ring, seen in 30 of 36 sectors, has nothing under the rim.
+sweep_args="--family elliptical --condition grooves" measure 482 1324
+[ "$status" = PV_OK ] && inside || fail "1324/482 (grooved, a ring and no second level): $status $check $volume +/- $interval cm3 against $exact"
+# And the vertical slip only the thin top refuses: a container's second
+# pass 18 mm off, its lip seen in 13 sectors, the other pass's 14 points
+# 19.5 mm under the rim (+2.15 % with PV_OK without the check; seed 1320).
+sweep_args="--family hand_dug --condition slip_vertical" measure 145 1320
+[ "$status" = PV_ERR_NOT_A_PIT ] && [ "$check" = PV_PIT_CHECK_THIN_TOP ] ||
+  fail "1320/145 (container slipped 18 mm up): $status $check $volume cm3"
+echo "envelope findings: 68 cases as expected"
