@@ -451,4 +451,12 @@ sweep_args="--family hand_dug --condition slip_vertical" measure 145 1320
 # lower bin's radius.
 sweep_args="--family textured --condition grooves" measure 609 1324
 [ "$status" = PV_OK ] && within 0.05 || fail "1324/609 (textured, grooves' upper flanks): $status $check $volume cm3 against $exact"
-echo "envelope findings: 69 cases as expected"
+# A 249 L textured pit without surround (sent 5 times over; its single
+# copy reads the same): its rough top looked flat in 37 bins, and behind
+# the thin lip's 1 mm gap its grooves counted as a vessel's inner wall
+# (0.20 of the points): capped as a vessel's, the wall beyond the caps was
+# lost, -0.80 % against +/- 0.63 % (tuning seed 1324). The vessels left
+# undecided read 0.22 and more.
+sweep_args="--family textured --condition duplicates" measure 498 1324
+[ "$status" = PV_OK ] && inside || fail "1324/498 (textured top taken for a vessel's lip): $status $check $volume +/- $interval cm3 against $exact"
+echo "envelope findings: 70 cases as expected"
