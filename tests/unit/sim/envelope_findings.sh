@@ -459,4 +459,11 @@ sweep_args="--family textured --condition grooves" measure 609 1324
 # undecided read 0.22 and more.
 sweep_args="--family textured --condition duplicates" measure 498 1324
 [ "$status" = PV_OK ] && inside || fail "1324/498 (textured top taken for a vessel's lip): $status $check $volume +/- $interval cm3 against $exact"
-echo "envelope findings: 70 cases as expected"
+# A 170 L protrusion pit without surround, its single pass: a 29 mm
+# block's top 40 mm under the rim, the wall above it thinly seen (1.2 % of
+# the sample), was taken for the ground, then refused NO_RIM with the wall
+# above that rim in 32 of 36 sectors (tuning seed 1324). A flat face in 4
+# sectors or fewer with the wall above it in 16 or more is a block's top.
+sweep_args="--family protrusions --condition long" twin=1 measure 789 1324
+[ "$status" = PV_OK ] && inside || fail "1324/789 1x (a block's top taken for the ground): $status $check $volume +/- $interval cm3 against $exact"
+echo "envelope findings: 71 cases as expected"
