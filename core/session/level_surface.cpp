@@ -92,6 +92,17 @@ bool is_ledge(pv_session *s, const rim::GroundPlane &gp) {
   return double(densest) < kMinParallelShare * double(above);
 }
 
+// The mean x, y of the levelled sample (s->lv.a).
+Eigen::Vector2d sample_centre(const pv_session *s) {
+  const uint32_t n = s->sample.size();
+  double cx = 0.0, cy = 0.0;
+  for (uint32_t i = 0; i < n; ++i) {
+    cx += s->lv.a[i].x();
+    cy += s->lv.a[i].y();
+  }
+  return {cx / double(n), cy / double(n)};
+}
+
 // A flat face on one side of the round with the wall going on above it
 // around the round is a block's top inside the pit, however little of the
 // sample lies above it (a thinly seen top: 1.2 % of a 170 L pit's, tuning
@@ -109,13 +120,8 @@ constexpr double kWallAboveFromMm = 3.0, kWallAboveToMm = 40.0;
 
 bool is_block_top(const pv_session *s, const rim::GroundPlane &gp) {
   const uint32_t n = s->sample.size();
-  double cx = 0.0, cy = 0.0;
-  for (uint32_t i = 0; i < n; ++i) {
-    cx += s->lv.a[i].x();
-    cy += s->lv.a[i].y();
-  }
-  cx /= double(n);
-  cy /= double(n);
+  const Eigen::Vector2d c = sample_centre(s);
+  const double cx = c.x(), cy = c.y();
   uint32_t on[kBlockSectors] = {}, above[kBlockSectors] = {};
   for (uint32_t i = 0; i < n; ++i) {
     const double h = gp.normal.dot(s->lv.a[i]) - gp.d;
@@ -151,13 +157,8 @@ constexpr double kMinNarrowRingMm = 20.0;
 double ring_width_mm(const pv_session *s, const rim::GroundPlane &gp) {
   constexpr int kSectors = 36;
   const uint32_t n = s->sample.size();
-  double cx = 0.0, cy = 0.0;
-  for (uint32_t i = 0; i < n; ++i) {
-    cx += s->lv.a[i].x();
-    cy += s->lv.a[i].y();
-  }
-  cx /= double(n);
-  cy /= double(n);
+  const Eigen::Vector2d c = sample_centre(s);
+  const double cx = c.x(), cy = c.y();
   double lo[kSectors], hi[kSectors], width[kSectors];
   uint32_t count[kSectors] = {};
   for (int k = 0; k < kSectors; ++k) lo[k] = hi[k] = 0.0;
