@@ -62,6 +62,13 @@ inline double angle_2pi(double y, double x) {
   return y < 0.0 ? kTwoPi - a : a;
 }
 
+// Which of n equal sectors from angle 0 the point (x, y) lies in, 0 to n - 1
+// (an angle rounded up to 2 pi stays in the last).
+inline int sector_of(double y, double x, int n) {
+  const int k = int(angle_2pi(y, x) * (n / kTwoPi));
+  return k < n - 1 ? k : n - 1;
+}
+
 // atan2(y, x) in (-pi, pi] (the range the crescent's angle window is
 // given in, core/clustering): angle_2pi, less 2 pi above pi. (0, 0) gives 0;
 // y = -0 with x < 0 gives pi, not atan2's -pi.

@@ -126,7 +126,7 @@ bool is_block_top(const pv_session *s, const rim::GroundPlane &gp) {
   for (uint32_t i = 0; i < n; ++i) {
     const double h = gp.normal.dot(s->lv.a[i]) - gp.d;
     const double dx = s->lv.a[i].x() - cx, dy = s->lv.a[i].y() - cy;
-    const int k = std::min(kBlockSectors - 1, int(angle_2pi(dy, dx) * (kBlockSectors / kTwoPi)));
+    const int k = sector_of(dy, dx, kBlockSectors);
     on[k] += std::fabs(h) <= 1.0;
     above[k] += h > kWallAboveFromMm && h <= kWallAboveToMm;
   }
@@ -165,7 +165,7 @@ double ring_width_mm(const pv_session *s, const rim::GroundPlane &gp) {
   for (uint32_t i = 0; i < n; ++i) {
     if (std::fabs(gp.normal.dot(s->lv.a[i]) - gp.d) > 1.0) continue;
     const double dx = s->lv.a[i].x() - cx, dy = s->lv.a[i].y() - cy;
-    const int k = std::min(kSectors - 1, int(angle_2pi(dy, dx) * (kSectors / kTwoPi)));
+    const int k = sector_of(dy, dx, kSectors);
     const double r = std::sqrt(dx * dx + dy * dy);
     lo[k] = count[k] == 0 ? r : std::min(lo[k], r);
     hi[k] = count[k] == 0 ? r : std::max(hi[k], r);

@@ -97,7 +97,7 @@ ThinTop thin_top(const pv_session *s, const levelling::Transform &t, double rim_
         if (!(z >= lo && z < rim_mm - kTopGapMm)) continue;
         const int b = std::min(kBins - 1, int(z - lo));
         const double dx = v.x() - axis.cx(z), dy = v.y() - axis.cy(z);
-        const int a = std::min(kSectors - 1, int(angle_2pi(dy, dx) * (kSectors / kTwoPi)));
+        const int a = sector_of(dy, dx, kSectors);
         h[a][b] += w;
       }
     }
