@@ -175,6 +175,7 @@ void weigh_floor(const Workspace &ws, const Model &m, const Params &p, const Poi
                  double weight, FloorWeights *acc) {
   const Geo g = geo_of(ws, m, p);
   const double far_from = p.band_mm + p.ghost_mm, far_to = p.band_mm + p.slip_mm;
+  const double wall_top = m.rim_mm - p.rim_guard_mm;  // as the wall grid's passes
   for (size_t k = 0; k < n; ++k) {
     const Point &q = pts[k];
     if (q.z > acc->z_top) continue;
@@ -185,7 +186,7 @@ void weigh_floor(const Workspace &ws, const Model &m, const Params &p, const Poi
     const double h = q.z - double(f.value);
     if (std::fabs(h) <= p.band_mm) {
       acc->floor += weight;
-    } else if (h > far_from && h <= far_to) {
+    } else if (h > far_from && h <= far_to && !on_wall_surface(ws, g, m.axis, wall_top, q.x, q.y, q.z)) {
       acc->far += weight;
       const auto b = uint32_t(h - far_from);
       acc->hist[b < kFloorSlipBins ? b : kFloorSlipBins - 1] += weight;

@@ -5,10 +5,12 @@
 #define PV_SURFACE_GRID_GEO_H
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
 #include "common/divisor.h"
+#include "surface/angle_bins.h"
 #include "surface/surface_model.h"
 
 namespace pv::surface {
@@ -24,6 +26,25 @@ struct Geo {
 inline Geo geo_of(const Workspace &ws, const Model &m, const Params &p) {
   return Geo{m.z0_mm, p.dz_mm, m.floor_x0, m.floor_y0, p.cell_mm, ws.cap.theta_bins, m.z_bins,
              ws.cap.cells, Divisor(p.dz_mm), Divisor(p.cell_mm)};
+}
+
+// A point over a floor cell that lies on the wall's surface where the wall
+// overhangs the floor (a neck's underside and the flank above it, an
+// undercut's foot) is wall, not a second floor: its radius reaches its wall
+// bin's largest, less the bin's band and kFarWallMarginMm. Asked of the
+// points in the floor's far window only (the slip checks), once the wall
+// bins hold the first pass's radii. Small necking pits (tuning seeds 1323,
+// 1324: 1 L, the neck 10-20 mm over the floor's outer cells) put 7-19 % of
+// their floor's points there and were refused DOUBLED_FLOOR.
+constexpr double kFarWallMarginMm = 2.0;
+inline bool on_wall_surface(const Workspace &ws, const Geo &g, const Axis &axis, double wall_top,
+                            double x, double y, double z) {
+  if (z >= wall_top) return false;
+  const double zb = g.per_dz.of(z - g.z0);
+  if (zb < 0 || zb >= g.Z) return false;
+  const double dx = x - axis.cx(z), dy = y - axis.cy(z);
+  const WallBin &b = ws.wall[size_t(uint32_t(zb)) * g.T + ws.theta->bin(dx, dy)];
+  return b.n_all > 0 && std::sqrt(dx * dx + dy * dy) >= double(b.top1) - double(b.band) - kFarWallMarginMm;
 }
 
 // The median (mean of the two middle values for even n), by selection, not

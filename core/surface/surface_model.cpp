@@ -385,7 +385,8 @@ void grid_batch(void *c, const Point *pts, size_t count) {
           f.n += near ? 1 : 0;
           f.sz += near ? q.z : 0.0;
           f.n_ghost += !near && z <= near_min(f) + ghost_top ? 1 : 0;
-          const bool far = z > near_min(f) + ghost_top && z <= near_min(f) + slip_top;
+          const bool far = z > near_min(f) + ghost_top && z <= near_min(f) + slip_top &&
+                           !on_wall_surface(*x->ws, g, axis, wall_top, q.x, q.y, q.z);
           f.n_far = uint16_t(f.n_far + (far && f.n_far < UINT16_MAX ? 1 : 0));
           if (far) {
             const auto hb = uint32_t(double(z) - double(near_min(f)) - ghost_top);
