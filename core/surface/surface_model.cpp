@@ -814,17 +814,8 @@ bool level_cell(const Workspace &ws, const Geo &g, uint32_t x, uint32_t y, float
 // The largest, over the directions, of a count's share (per T theta
 // columns) in the two 60 deg sectors facing a direction less its share in
 // the two across; -1 where no direction has kMinSectorBins dense bins in
-// both pairs. With both_sides: a rigid shift doubles the wall on both
-// sides it faces, so a direction counts only where each of its two sectors
-// alone holds the count kMinOppositeContrast above the sectors across
-// (below it, the contrast is that one-sided figure, at least 0). One
-// block's face, one column the path saw twice, one side's multipath fill
-// one sector only: on tuning seeds 1323, 1324 and check seed 1326, 5 of
-// the 10 real pits refused DOUBLED_WALL (0.22-0.44) read 0.00-0.02 on
-// their weaker side; the 40 sideways slips refused on the bins' own
-// contrast read 0.04-0.85 there.
-constexpr double kMinOppositeContrast = 0.1;
-double sector_contrast(const uint32_t *dense, const uint32_t *count, uint32_t T, bool both_sides) {
+// both pairs.
+double sector_contrast(const uint32_t *dense, const uint32_t *count, uint32_t T) {
   // Sectors of 60 deg: the columns within T / 12 of a centre (exclusive).
   const uint32_t w = (T + 11) / 12 - 1;
   const auto sector = [&](const uint32_t *c, uint32_t centre) {
@@ -832,20 +823,15 @@ double sector_contrast(const uint32_t *dense, const uint32_t *count, uint32_t T,
     for (uint32_t d = 0; d <= 2 * w; ++d) sum += c[(centre + T - w + d) % T];
     return sum;
   };
-  const auto share = [](uint32_t n, uint32_t of) { return of ? double(n) / of : 0.0; };
   const uint32_t half = T / 2, quarter = T / 4;
   double contrast = -1;
   for (uint32_t k = 0; k < half; ++k) {
-    const uint32_t da = sector(dense, k), db = sector(dense, k + half);
-    const uint32_t on_n = da + db;
+    const uint32_t on_n = sector(dense, k) + sector(dense, k + half);
     const uint32_t off_n = sector(dense, k + quarter) + sector(dense, k + half + quarter);
     if (on_n < kMinSectorBins || off_n < kMinSectorBins) continue;
-    const uint32_t ca = sector(count, k), cb = sector(count, k + half);
-    const double on = share(ca + cb, on_n);
-    const double off = share(sector(count, k + quarter) + sector(count, k + half + quarter), off_n);
-    const double weaker = std::min(share(ca, da), share(cb, db)) - off;
-    const double c = !both_sides || on - off < 0 || weaker >= kMinOppositeContrast ? on - off : std::max(weaker, 0.0);
-    contrast = std::max(contrast, c);
+    const double on = double(sector(count, k) + sector(count, k + half)) / on_n;
+    const double off = double(sector(count, k + quarter) + sector(count, k + half + quarter)) / off_n;
+    contrast = std::max(contrast, on - off);
   }
   return contrast;
 }
@@ -894,11 +880,7 @@ double pooled_ghost_contrast(const Workspace &ws, const Geo &g) {
       ghost[t] += ghost_bin(behind, all) ? 1 : 0;
     }
   }
-  // One-sided: a small elliptical pit slipped sideways read -0.11 on its
-  // weaker side pooled, +7.3 % with PV_OK asked both (tuning seed 1323
-  // #705); none of the 10 real pits refused DOUBLED_WALL on seeds 1323,
-  // 1324 and 1326 was refused on the pooled blocks.
-  return sector_contrast(dense, ghost, T, false);
+  return sector_contrast(dense, ghost, T);
 }
 
 void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool coarse, double band_mm,
@@ -919,9 +901,9 @@ void count_ghosts(const Workspace &ws, const Geo &g, const CellBox &box, bool co
       thick[t] += !coarse && b.n >= kDenseBinPoints && bin_spread(b) > kThickBandMm ? 1 : 0;
     }
   }
-  double behind = sector_contrast(dense, ghost, g.T, true);
+  double behind = sector_contrast(dense, ghost, g.T);
   if (behind < 0 && !coarse) behind = pooled_ghost_contrast(ws, g);
-  const double spread = sector_contrast(dense, thick, g.T, true);
+  const double spread = sector_contrast(dense, thick, g.T);
   m->ghost_contrast = std::max(behind, spread);
   const auto max_rise = float(kLevelRiseBands * band_mm);
   box.each(g.C, [&](size_t i, uint32_t x, uint32_t y) {

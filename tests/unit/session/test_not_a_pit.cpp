@@ -258,32 +258,6 @@ void grooved_pit_measures(void **) {
   expect_measures(v, "grooved pit");
 }
 
-// Grooves 3 mm deep every 3 mm over one 90 deg sector only (a worked
-// face, a block's edge): ghost bins on one side and none across it, which
-// a scan registered twice never makes (a shift doubles the wall on both
-// sides it faces). Before the doubled-wall contrast asked both sides, this
-// read 0.34 (surface) and 0.37 (paper, polar) against the limit 0.2 and
-// was refused.
-void grooved_on_one_side_measures(void **) {
-  Rng g{9};
-  std::vector<pv_point_t> v;
-  const double depth = 250, sector = 0.5 * kPi;
-  for (int i = 0; i < 150000; ++i) {
-    const double u = g.uniform(), t = 2 * kPi * g.uniform();
-    if (u < 0.45) {
-      const double r = 100 * std::sqrt(g.uniform());
-      v.push_back(P(r * std::cos(t), r * std::sin(t), 0.1 * g.gauss()));
-    } else {
-      const double z = depth * g.uniform();
-      const double r = t < sector && std::fmod(z, 3.0) < 1.5 ? 103.0 : 100.0;
-      v.push_back(P(r * std::cos(t), r * std::sin(t), z));
-    }
-  }
-  // The grooves: 2 of every 5 mm of the sector, 3 mm deep.
-  const double grooves = 0.5 * (103.0 * 103.0 - 100.0 * 100.0) * sector * depth * 0.5;
-  expect_measures(v, "grooved on one side", (kPi * 100 * 100 * depth + grooves) / 1000.0);
-}
-
 // n points of a cylinder pit of radius r_pit and depth h with a ground ring
 // out to radius outer, raised by dz: 35 % floor, 40 % wall, 25 % ground.
 void add_pit_with_ground(Rng &g, int n, double r_pit, double h, double outer, double dz,
@@ -452,7 +426,6 @@ int main() {
       PV_EACH_METHOD(trench_wider_than_the_grids_is_refused),
       PV_EACH_METHOD(one_pit_measures),
       PV_EACH_METHOD(grooved_pit_measures),
-      PV_EACH_METHOD(grooved_on_one_side_measures),
       PV_EACH_METHOD(pit_in_centimetres_is_refused),
       PV_EACH_METHOD(one_litre_hole_measures),
       PV_EACH_METHOD(slipped_pass_with_ground_is_refused),
