@@ -40,6 +40,9 @@ twin_within() {  # twin_within INDEX SEED PERCENT: the case (v_case) against its
   twin=1 measure "$1" "$2"
   awk -v a="$v_case" -v b="$volume" -v p="$3" 'BEGIN { d = (a - b) / b * 100; if (d < 0) d = -d; exit !(d <= p) }'
 }
+measured_inside() {  # measured_inside LABEL: PV_OK, the truth inside the interval
+  [ "$status" = PV_OK ] && inside || fail "$1: $status $check $volume +/- $interval cm3 against $exact"
+}
 within() {  # within PERCENT: the volume's error against exact
   awk -v v="$volume" -v e="$exact" -v p="$1" 'BEGIN { d = (v - e) / e * 100; if (d < 0) d = -d; exit !(d <= p) }'
 }
@@ -148,7 +151,7 @@ measure 63 1302
 # refused DOUBLED_FLOOR (limit 3 %). Counted over the level cells only
 # (0.26 %): -0.87 % +/- 1.56 %.
 measure 130 1300
-[ "$status" = PV_OK ] && inside || fail "1300/130 (rounded bowl's sloping bottom): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1300/130 (rounded bowl's sloping bottom)"
 # A cylinder in a container scanned over a 200 deg arc, 16 deg off: its
 # floor fit 105 deg off, the rim plane found near that frame faced
 # sideways, and a section through the wall, taken for the rim, was 0.18 of
@@ -162,20 +165,20 @@ measure 67 1300
 # surround scanned 15 deg off, the top of its near wall unseen, its rim at
 # one height in 22 of 36 sectors;
 measure 20 1301
-[ "$status" = PV_OK ] && inside || fail "1301/20 (rim seen in 22 sectors): $status $volume +/- $interval cm3 against $exact"
+measured_inside "1301/20 (rim seen in 22 sectors)"
 # rounded bowls scanned 49-58 deg off, their floor fits 33-49 deg off the
 # rim plane: one with a ground ring (found again from the rim plane's
 # frame), one without surround.
 measure 107 1301
-[ "$status" = PV_OK ] && inside || fail "1301/107 (rounded bowl, 58 deg): $status $volume +/- $interval cm3 against $exact"
+measured_inside "1301/107 (rounded bowl, 58 deg)"
 measure 164 1302
-[ "$status" = PV_OK ] && inside || fail "1302/164 (rounded bowl, no surround, tilted): $status $volume +/- $interval cm3 against $exact"
+measured_inside "1302/164 (rounded bowl, no surround, tilted)"
 # A shallow wide pit whose floor fit lay 4 deg off: turned onto its
 # ground ring, the whole scan above z = 0, the floor 20 mm up; the floor
 # map found no cells at the bottom plane and the floor counted as points
 # inside the void (tuning seed 5, sparse; refused POINTS_INSIDE at 0.72).
 measure 0 5
-[ "$status" = PV_OK ] && inside || fail "5/0 (floor 20 mm above z = 0): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "5/0 (floor 20 mm above z = 0)"
 # A 1.3 L necking pit whose undercut was unseen all round (31 % of the
 # volume over unseen wall): refused WALL_GAP by default; with the limit
 # loosened, bridged up the height gap it read -7.25 % +/- 0.99 % (tuning
@@ -185,12 +188,12 @@ measure 289 5
 [ "$status" = PV_ERR_WALL_GAP ] || fail "5/289 (undercut unseen all round): $status $volume cm3 against $exact"
 printf 'max_unseen_share = 1\n' > "$work/loose.conf"
 measure_config=$work/loose.conf measure 289 5
-[ "$status" = PV_OK ] && inside || fail "5/289 loosened: $status $volume +/- $interval cm3 against $exact"
+measured_inside "5/289 loosened"
 # A 0.38 m3 bulge without surround scanned 15 deg off: its rim seen in 16
 # sectors, the other 20 showing lower wall: refused NO_RIM with the partial
 # plane at 18 sectors; the highest edge, nowhere exceeded, is the rim.
 measure 47 5
-[ "$status" = PV_OK ] && inside || fail "5/47 (rim in 16 sectors): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "5/47 (rim in 16 sectors)"
 # Vessels whose lip the scan saw from far in most bins (flat in 53 and 41
 # bins of 180): the rest of the round had no cap, and where the path went
 # outside, the bins read the outer wall under the lip. A tapered vessel
@@ -250,7 +253,7 @@ measure 259 1310
 # +/- 2.5 % before the interval took in part of the unseen volume (tuning
 # seed 8).
 sweep_args="--family necking --condition stones" measure 38 8
-[ "$status" = PV_OK ] && inside || fail "8/38 (undercut 27 % unseen): $status $volume +/- $interval cm3 against $exact"
+measured_inside "8/38 (undercut 27 % unseen)"
 # A bulge vessel scanned 28 passes: multipath over its thinned lip (layers
 # less thinned than the lip's) made the rim plane's tops in half the
 # sectors, the plane 0.6 mm high and tilted: +2.7 % from its single pass.
@@ -264,14 +267,14 @@ twin_within 282 1309 0.05 ||
 # +0.59 % against +/- 0.40 %. Now the stone's top bounds the void (fresh
 # seed 1310, looked at for this).
 measure 138 1310
-[ "$status" = PV_OK ] && inside || fail "1310/138 (stone on the floor): $status $volume +/- $interval cm3 against $exact"
+measured_inside "1310/138 (stone on the floor)"
 # A tapered pit 1 m across and 662 mm deep without ground: from 524k
 # points on its last provisional frame lay on the wall, 81 deg off, and the far wall
 # beyond that frame's top (1.3 % of the points since) refused it
 # DEPTH_EXCEEDS_CAPACITY; a grid's top counts against the depth only where
 # it caps the pit (fresh seed 1311, looked at for this).
 measure 278 1311
-[ "$status" = PV_OK ] && inside || fail "1311/278 (provisional frame on the wall): $status $volume +/- $interval cm3 against $exact"
+measured_inside "1311/278 (provisional frame on the wall)"
 # A necking container scanned once: a band all round under its neck
 # unseen (24 % of the volume), the fill from above carrying the neck's
 # radius down where the wall bulges back out: -8.3 % PV_OK against an
@@ -279,25 +282,25 @@ measure 278 1311
 # looked at for this). The wall under an overhang reaches the seen wall
 # below it in the interval.
 sweep_args="--family necking --condition slip_lateral" twin=1 measure 165 1312
-[ "$status" = PV_OK ] && inside || fail "1312/165 1x (under a neck): $status $volume +/- $interval cm3 against $exact"
+measured_inside "1312/165 1x (under a neck)"
 # A 960 mm tapered vessel scanned at 25 deg: over 66 deg the scan saw
 # neither its lip nor the inner wall's top, those bins took no cap, and
 # read the outer wall up to 93 mm behind the inner wall: +1.31 % PV_OK
 # against +/- 0.42 % (fresh seed 1312, looked at for this).
 sweep_args="--family tapered --condition nominal" measure 128 1312
-[ "$status" = PV_OK ] && inside || fail "1312/128 (vessel's lip unseen over 66 deg): $status $volume +/- $interval cm3 against $exact"
+measured_inside "1312/128 (vessel's lip unseen over 66 deg)"
 # A 0.06 m3 shallow pit with ground scanned 42 deg off: neither the floor
 # fit nor the scanner's axis found its opening (NO_RIM); from the axis
 # turned 30 and 50 deg the ground most starts agree on (tuning seed 1311,
 # looked at for this).
 sweep_args="--family shallow_wide --condition tilted" measure 37 1311
-[ "$status" = PV_OK ] && inside || fail "1311/037 (held 42 deg off): $status $volume +/- $interval cm3 against $exact"
+measured_inside "1311/037 (held 42 deg off)"
 # A sparse rounded bowl with ground whose bottom 60 mm went unseen: the
 # fill carried the lowest seen radius down to the bottom, +1.92 % against
 # +/- 1.0 % (tuning seed 1311, looked at for this); the interval's low
 # spread follows the seen wall's narrowing down.
 sweep_args="--family rounded_bowl --condition sparse" measure 59 1311
-[ "$status" = PV_OK ] && inside || fail "1311/059 (bottom unseen): $status $volume +/- $interval cm3 against $exact"
+measured_inside "1311/059 (bottom unseen)"
 # A bowl 516 mm deep scanned ten times over: the stored points thin to one
 # or two per floor cell, a few wall bins on the bottom's slope fall short
 # of floor points and count as seen, and the floor bins filled from them
@@ -327,29 +330,29 @@ sweep_args="--family cylinder --condition tilted" measure 64 1314
 # (tuning seed 1311 #210 over an arc at 0.35; fresh seed 1314 #132, sparse,
 # at 0.27, looked at for this): a second copy lies at one depth.
 sweep_args="--family protrusions --condition arc" measure 210 1311
-[ "$status" = PV_OK ] && inside || fail "1311/210 (protrusions, arc): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1311/210 (protrusions, arc)"
 sweep_args="--family protrusions --condition sparse" measure 132 1314
-[ "$status" = PV_OK ] && inside || fail "1314/132 (protrusions, sparse): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1314/132 (protrusions, sparse)"
 # A rounded bowl whose upright top meets the sloping bowl 31 mm under the
 # rim: the bowl faces the scanner and holds more points per mm of height,
 # so the top held 0.32 of the band below and was refused THIN_TOP as a
 # slipped pass (tuning seed 1314, grooved). The ratio is taken for the
 # bands' slopes.
 sweep_args="--family rounded_bowl --condition grooves" measure 52 1314
-[ "$status" = PV_OK ] && inside || fail "1314/052 (rounded bowl, upright top): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1314/052 (rounded bowl, upright top)"
 # A 1 m vessel (bowl, 7 mm lip) whose lip was seen flat in a fifth of the
 # round: the caps carried round from those bins lay 1-2 mm inside the
 # wall's top over 40 % of it, the wall's points there dropped, refused
 # WALL_GAP (fresh seed 1315 #138's single scan, looked at for this). A cap
 # lies at least at its bin's own inner edge.
 twin=1 sweep_args="--family bowl --condition slip_vertical" measure 138 1315
-[ "$status" = PV_OK ] && inside || fail "1315/138 1x (1 m vessel, caps inside the wall): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1315/138 1x (1 m vessel, caps inside the wall)"
 # A 1.5 m shallow pit with stones (757 mm of radius): the first model's
 # widest wall bin read 787.6 mm from its clipped axis, past the 787.5 mm the
 # margin leaves, refused TOO_WIDE (fresh seed 1316, looked at for this). The
 # widest grids are tried, their model decides.
 sweep_args="--family shallow_wide --condition stones" measure 183 1316
-[ "$status" = PV_OK ] && inside || fail "1316/183 (757 mm radius): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1316/183 (757 mm radius)"
 # A second pass 8 mm higher in a 0.85 m wide vessel, measured on grids
 # scaled to it, where the floor's ghost share did not run: +1.72 % with
 # PV_OK outside +/- 0.47 % (tuning seed 1316). The share runs there too.
@@ -369,7 +372,7 @@ sweep_args="--family elliptical --condition slip_lateral" measure 20 1313
 # into the grid: refused DOUBLED_WALL at 0.46 (+1.26 % without the check;
 # fresh seed 1317, looked at for this). The gap follows the lip's width.
 sweep_args="--family cylinder --condition arc" measure 199 1317
-[ "$status" = PV_OK ] && inside || fail "1317/199 (vessel, 4.1 mm lip, arc): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1317/199 (vessel, 4.1 mm lip, arc)"
 # A second pass 10.6 mm aside in a 146 mm wide textured pit without
 # surround: past the doubled wall's 8 mm window, its two wall tops read as
 # a vessel's lip, the model kept the inner of the two walls all round (the
@@ -380,13 +383,13 @@ sweep_args="--family textured --condition slip_lateral" measure 63 1313
   fail "1313/063 (lateral slip past the window, read as a vessel): $status $check $volume +/- $interval cm3 against $exact"
 # Its single pass measures.
 twin=1 sweep_args="--family textured --condition slip_lateral" measure 63 1313
-[ "$status" = PV_OK ] && inside || fail "1313/063 1x: $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1313/063 1x"
 # A rounded bowl 87 L held 58 deg off: the floor-plane start settled 22
 # deg off it and found an opening whose section was a sixth of the pit's
 # below it, refused NARROW_MOUTH (tuning seed 1311). The frame from the
 # scanner's axis, 94 deg from that one, measures it.
 sweep_args="--family rounded_bowl --condition tilted" measure 59 1311
-[ "$status" = PV_OK ] && inside || fail "1311/059 (rounded bowl held 58 deg off): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1311/059 (rounded bowl held 58 deg off)"
 # A second pass 12 mm aside in a 785 mm deep pit without surround,
 # refused POINTS_INSIDE; the scanner's axis gives the same frame (0.02 deg
 # from it), from which it reads -1.5 % outside +/- 0.3 % with PV_OK
@@ -401,7 +404,7 @@ sweep_args="--family deep_narrow --condition slip_lateral" measure 21 1314
 # before other planes they were refused too (tuning seed 1312). A retry
 # takes the plane most starts agree on.
 sweep_args="--family elliptical --condition tilted" measure 90 1312
-[ "$status" = PV_OK ] && inside || fail "1312/090 (pit without surround held 57 deg off): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1312/090 (pit without surround held 57 deg off)"
 # A 1.2 L cylinder without surround scanned 25 passes: the rim plane
 # through the sectors' third-highest points rose with their count, 0.17 mm
 # over its single pass's, +0.21 % from it (the pass itself -0.004 %). The
@@ -415,13 +418,13 @@ sweep_args="--family cylinder --condition long" twin_within 576 1323 0.05 ||
 # the bottom: refused DEPTH_EXCEEDS_CAPACITY (seed 1324, looked at for
 # this). Retried from the turned axis, the plane most starts agree on.
 sweep_args="--family shallow_wide --condition tilted" measure 499 1324
-[ "$status" = PV_OK ] && inside || fail "1324/499 (shallow pit held 46 deg off, a ground along its side): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1324/499 (shallow pit held 46 deg off, a ground along its side)"
 # A 0.9 L bulging pit without surround, its single pass first levelled
 # upside down: the wall's top 20 mm went to the floor store, the thin-top
 # check counted the layer store alone and refused it at 0 (seed 1324,
 # looked at for this). Counted in both stores, measured.
 sweep_args="--family bulge --condition long" twin=1 measure 397 1324
-[ "$status" = PV_OK ] && inside || fail "1324/397 1x (wall's top in the floor store): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1324/397 1x (wall's top in the floor store)"
 # A 1.3 L hand-dug pit without surround, its single pass levelled upside
 # down from the floor: from the turned axis the strict ground fit took
 # the wall's top 2 mm (a ring 2.6 mm wide) for a ground 1.4 mm under the
@@ -430,14 +433,14 @@ sweep_args="--family bulge --condition long" twin=1 measure 397 1324
 # a plane narrower than a ground ring (20 mm) with the wall going on above
 # it is no ground: the rim plane stays.
 sweep_args="--family hand_dug --condition slip_lateral" twin=1 measure 5 1314
-[ "$status" = PV_OK ] && inside || fail "1314/005 1x (wall's top taken for a ground after a turn): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1314/005 1x (wall's top taken for a ground after a turn)"
 # A 3.4 L elliptical pit with grooves and a ground ring: a groove's shadow
 # over its dense upper flank, then the wall again, read as a pass slipped
 # 21 mm (the top 0.27 of the band below): refused THIN_TOP (tuning seed
 # 1324). A slipped pass shows its own ground ring at the step's depth; this
 # ring, seen in 30 of 36 sectors, has nothing under the rim.
 sweep_args="--family elliptical --condition grooves" measure 482 1324
-[ "$status" = PV_OK ] && inside || fail "1324/482 (grooved, a ring and no second level): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1324/482 (grooved, a ring and no second level)"
 # And the vertical slip only the thin top refuses: a container's second
 # pass 18 mm off, its lip seen in 13 sectors, the other pass's 14 points
 # 19.5 mm under the rim (+2.15 % with PV_OK without the check; seed 1320).
@@ -458,21 +461,21 @@ sweep_args="--family textured --condition grooves" measure 609 1324
 # lost, -0.80 % against +/- 0.63 % (tuning seed 1324). The vessels left
 # undecided read 0.22 and more.
 sweep_args="--family textured --condition duplicates" measure 498 1324
-[ "$status" = PV_OK ] && inside || fail "1324/498 (textured top taken for a vessel's lip): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1324/498 (textured top taken for a vessel's lip)"
 # A 170 L protrusion pit without surround, its single pass: a 29 mm
 # block's top 40 mm under the rim, the wall above it thinly seen (1.2 % of
 # the sample), was taken for the ground, then refused NO_RIM with the wall
 # above that rim in 32 of 36 sectors (tuning seed 1324). A flat face in 4
 # sectors or fewer with the wall above it in 16 or more is a block's top.
 sweep_args="--family protrusions --condition long" twin=1 measure 789 1324
-[ "$status" = PV_OK ] && inside || fail "1324/789 1x (a block's top taken for the ground): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1324/789 1x (a block's top taken for the ground)"
 # A 1.2 L necking pit in a container: the neck's underside and the flank
 # above it lie 10-35 mm over the floor's outer cells, 19 % of the floor's
 # points in the slipped-floor window (and 11 % weighed): refused
 # DOUBLED_FLOOR (tuning seed 1324). Points on the wall's surface there are
 # wall, not a second floor.
 sweep_args="--family necking --condition nominal" measure 42 1324
-[ "$status" = PV_OK ] && inside || fail "1324/42 (a neck over the floor): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1324/42 (a neck over the floor)"
 # A 0.86 L protrusion pit with ground scanned in 12 passes: its floor
 # store thinned more than the layers over it, where multipath over the
 # blocks' tops lies, so 5.1 % of the floor's points counted lay 8-40 mm above it
@@ -480,5 +483,5 @@ sweep_args="--family necking --condition nominal" measure 42 1324
 # (tuning seed 1324). Weighed by the thinning: 4.1 %, under the 6 % a
 # slipped pass's floor shows.
 sweep_args="--family protrusions --condition long" measure 265 1324
-[ "$status" = PV_OK ] && inside || fail "1324/265 (long scan, multipath over the floor): $status $check $volume +/- $interval cm3 against $exact"
+measured_inside "1324/265 (long scan, multipath over the floor)"
 echo "envelope findings: 73 cases as expected"
