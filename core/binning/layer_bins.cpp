@@ -36,7 +36,7 @@ struct TailEntry {  // a tail point and its rank, in the merge buffer
 size_t LayerBins::bytes_needed(uint32_t layers, uint32_t capacity, bool ranks, bool index) {
   return size_t(layers) * capacity * sizeof(P3) + size_t(layers) * sizeof(uint32_t) +
          (index ? size_t(layers) * sizeof(uint32_t) : 0) + size_t(layers) * sizeof(uint8_t) +
-         (ranks ? size_t(layers) * capacity + sizeof(LayerBins *) : 0);
+         (ranks ? size_t(layers) * capacity : 0);
 }
 
 void LayerBins::init(void *memory, uint32_t layers, uint32_t capacity, bool ranks,
@@ -54,7 +54,6 @@ void LayerBins::init(void *memory, uint32_t layers, uint32_t capacity, bool rank
   layers_ = layers;
   capacity_ = capacity;
   floor_layers_ = floor_layers;
-  set_spill(nullptr);
   clear();
 }
 
@@ -152,7 +151,6 @@ bool LayerBins::insert_full(uint32_t j, const P3 &p, uint64_t hash) {
   while (true) {
     if (!passes(hash, levels_[j])) {
       ++thinned_;
-      if (LayerBins *sp = spill()) sp->insert(0, p, hash);
       return false;
     }
     if (counts_[j] < capacity_) {
@@ -192,11 +190,6 @@ void LayerBins::thin_to(uint32_t j, uint8_t level) {
   if (ranks_ != nullptr) {
     uint8_t *rk = ranks_ + size_t(j) * capacity_;
     for (uint32_t i = 0; i < prefix; ++i) kept_in_prefix += rk[i] >= level ? 1 : 0;
-    if (LayerBins *sp = spill()) {
-      for (uint32_t i = 0; i < n; ++i) {
-        if (rk[i] < level) sp->insert(0, bin[i], hash_of_rank(rk[i]));
-      }
-    }
     for (uint32_t i = 0; i < n; ++i) {  // branch-free: about half are kept
       const uint8_t r = rk[i];
       bin[kept] = bin[i];

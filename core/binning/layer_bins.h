@@ -8,19 +8,6 @@
 // survive depends only on the points, not on their order, and a 10-million
 // point scan uses the same memory as a 100-thousand point scan.
 //
-// A spill store (set_spill(), with the ranks: the session's, method
-// surface): the points the levels drop go to one more store, a single bin
-// of its own that thins like a layer bin. A bin at level L whose spill is at level G < L keeps
-// its points of rank >= L and the spill those of rank G..L-1: together the
-// layer is sampled at G. The layers that overflow most are the flat ones
-// (a container's lip, the ground, the floor band), where a 0.5 mm layer
-// holds a ring many millimetres wide: at 1024 points a bin a long scan
-// kept 1-2 points of a lip per 2 deg while the wall's layers under it kept
-// 5-8, and the lip was read on the wall's top. The spill keeps such layers
-// at the density of the rest, as far as it holds. Its content depends on
-// the points alone (a point is in it when its rank lies between the spill's
-// level and its bin's, both order-free), not on their order.
-//
 // A floor under the levels (floor_layers > 0): a bin never keeps points at
 // a higher rate than the floor_layers-th densest bin's level. Without it a
 // bin that few points reach (far strays above the rim, in layers of their
@@ -52,7 +39,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 
 #include "common/geometry.h"
 
@@ -77,7 +63,6 @@ class LayerBins {
   bool insert(uint32_t j, const P3 &p, uint64_t hash) {
     if (!passes(hash, levels_[j])) {
       ++thinned_;
-      if (LayerBins *sp = spill()) sp->insert(0, p, hash);
       return false;
     }
     uint32_t &c = counts_[j];
@@ -122,21 +107,6 @@ class LayerBins {
   uint64_t thinned() const { return thinned_; }  // dropped by bin levels
   uint8_t floor_level() const { return floor_; }
 
-  // A spill store (one bin, see above): every point this store's levels
-  // drop, turned away or thinned out, is offered to it. Only with the
-  // ranks: the link is carved after them (no member of its own: the MCU
-  // profile's session header is at its limit). Null: dropped.
-  void set_spill(LayerBins *spill) {
-    if (ranks_ != nullptr) std::memcpy(spill_link(), &spill, sizeof spill);
-  }
-  LayerBins *spill() const {
-    LayerBins *sp = nullptr;
-    if (ranks_ != nullptr) std::memcpy(&sp, spill_link(), sizeof sp);
-    return sp;
-  }
-  // A hash whose rank is r (the spill is offered a thinned point's rank).
-  static uint64_t hash_of_rank(uint8_t r) { return r >= 64 ? 0 : uint64_t{1} << (63 - r); }
-
   // The top `level` bits of the hash are zero (level 0: every hash), as
   // one shift by 63 - level of hash >> 1: no branch on level 0.
   static bool passes(uint64_t hash, uint8_t level) {
@@ -172,8 +142,6 @@ class LayerBins {
   // Per bin, the sorted prefix's length: carved after the counts (no
   // pointer of its own: the MCU profile's session header is at its limit).
   uint32_t *sorted() const { return counts_ + layers_; }
-  // With the ranks, the spill's address after them (unaligned: memcpy).
-  unsigned char *spill_link() const { return ranks_ + size_t(layers_) * capacity_; }
 };
 
 }  // namespace pv::binning

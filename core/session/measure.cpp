@@ -365,7 +365,7 @@ static pv_status_t measure_stored(pv_session *s, pv_result_t *out, levelling::Tr
   out->points_invalid = s->points_invalid;
   s->layer_info_count = 0;
   if (s->points_invalid > 0) out->warnings |= PV_WARN_INVALID_POINTS;
-  if (session::points_dropped(s)) out->warnings |= PV_WARN_POINTS_THINNED;
+  if (s->bins.thinned() > 0) out->warnings |= PV_WARN_POINTS_THINNED;
 
   auto fail = [out](pv_status_t st) {
     out->status = st;

@@ -310,18 +310,11 @@ void visit_bins(const binning::LayerBins &bins, const levelling::Transform &t, u
   if (n > 0) fn(fn_ctx, buf, n);
 }
 
-// The layer bins' and the floor store's points (the thinned sample).
+// Every stored point: the layer bins, then the floor store.
 void visit_points(void *ctx, surface::PointFn fn, void *fn_ctx) {
   const auto *lv = static_cast<const Levelled *>(ctx);
   visit_bins(lv->s->bins, *lv->t, lv->stride, fn, fn_ctx);
   visit_bins(lv->s->floor_bins, *lv->t, lv->stride, fn, fn_ctx);
-}
-
-// The same, then the spill's (surface::PointSource::visit_surface).
-void visit_surface_points(void *ctx, surface::PointFn fn, void *fn_ctx) {
-  visit_points(ctx, fn, fn_ctx);
-  const auto *lv = static_cast<const Levelled *>(ctx);
-  if (const binning::LayerBins *sp = lv->s->bins.spill()) visit_bins(*sp, *lv->t, lv->stride, fn, fn_ctx);
 }
 
 // Every stored point weighed by what it stands for (its bin's thinning,
@@ -479,7 +472,7 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
 surface::Status build_surface_model(pv_session *s, const levelling::Transform &t, double rim_mm,
                                     uint32_t stride, const surface::Params &p, surface::Model *m) {
   Levelled lv{s, &t, stride};
-  const surface::PointSource src{&lv, visit_points, visit_surface_points};
+  const surface::PointSource src{&lv, visit_points};
   const double z_bottom = s->grid.z_of(0) - 0.5 * s->grid.layer_mm;
   // Each point's theta bin, kept between the model's passes
   // (surface::Workspace::point_theta; session.cpp, layout()).
@@ -644,10 +637,9 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
   const surface::Volume &v = c.v;
   out->coverage_bands = PV_COVERAGE_BANDS;
   surface::coverage(s->surf, m, p, PV_COVERAGE_BANDS, out->coverage);
-  const binning::LayerBins *sp = s->bins.spill();
-  out->points_used = s->bins.stored() + s->floor_bins.stored() + (sp != nullptr ? sp->stored() : 0);
+  out->points_used = s->bins.stored() + s->floor_bins.stored();
   out->points_stored = out->points_used;
-  if (session::points_dropped(s)) out->warnings |= PV_WARN_POINTS_THINNED;
+  if (s->floor_bins.thinned() > 0) out->warnings |= PV_WARN_POINTS_THINNED;
   out->layers_used = m.seen_bins;
   out->layers_rejected = m.rejected_bins;
   out->rim_area_mm2 = v.rim_area_mm2;

@@ -48,12 +48,7 @@ bool binned_before(const pv_session *s, const P3 &p, uint64_t hash) {
     const bool floor = uint32_t(j) < s->floor_layers;
     const binning::LayerBins &b = floor ? s->floor_bins : s->bins;
     const uint32_t bin = floor ? 0 : uint32_t(j);
-    if (binning::LayerBins::passes(hash, b.level(bin))) {
-      if (b.holds(bin, p)) return true;
-    } else if (const binning::LayerBins *sp = s->bins.spill();
-               sp == nullptr || !binning::LayerBins::passes(hash, sp->level(0)) || sp->holds(0, p)) {
-      return true;  // thinned away, or in the spill
-    }
+    if (!binning::LayerBins::passes(hash, b.level(bin)) || b.holds(bin, p)) return true;
   }
   return false;
 }
@@ -82,7 +77,6 @@ void bin_point(pv_session *s, const P3 &p, uint64_t hash) {
 void start_repeat_mode(pv_session *s) {
   if (!s->bins.start_index()) return;  // no index (no duplicate filter): no repeat mode
   if (s->floor_layers > 0) s->floor_bins.start_index();
-  if (binning::LayerBins *sp = s->bins.spill()) sp->start_index();
   s->repeat_mode = true;
 }
 
@@ -183,9 +177,6 @@ constexpr size_t kThetaCacheMinPoints = 100000;
 constexpr uint32_t kThinFloorLayers = 64;
 // Stored points (slots) from which the bins keep their points' ranks.
 constexpr size_t kRanksMinPoints = 100000;
-// The spill store (method surface, with the ranks): an eighth of the
-// slots beside them (binning/layer_bins.h).
-constexpr size_t kSpillShare = 8;
 
 size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
   Carver cv(block);
@@ -240,18 +231,6 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
         binning::LayerBins::bytes_needed(1, c.surface_floor_points, ranks, index));
     if (block != nullptr) o->floor_bins.init(floor_mem, 1, c.surface_floor_points, ranks, 0, index);
   }
-  const auto spill = uint32_t(c.method == PV_METHOD_SURFACE && ranks ? slots / kSpillShare : 0);
-  if (spill > 0) {
-    auto *spill_at = cv.take<binning::LayerBins>(1);
-    void *spill_mem =
-        cv.take<unsigned char>(binning::LayerBins::bytes_needed(1, spill, ranks, index));
-    if (block != nullptr) {
-      auto *sp = new (spill_at) binning::LayerBins{};  // placement: no allocation
-      sp->init(spill_mem, 1, spill, ranks, 0, index);
-      o->bins.set_spill(sp);
-      o->floor_bins.set_spill(sp);
-    }
-  }
 
   // Scratch: the levelling's, the warm-up buffer (empty once a transform
   // exists, which measure() makes sure of first) and the per-layer stages'.
@@ -295,7 +274,7 @@ size_t layout(const pv_config_t &c, unsigned char *block, pv_session *s) {
     // default: 1.4 MB, 4.5 % of its block); a small one (the MCU profile,
     // whose every byte counts) bins each point again in each pass, unless
     // the scratch has room.
-    const size_t cache = slots + spill;
+    const size_t cache = size_t(layers) * c.points_per_layer + c.surface_floor_points;
     if (cv.used() + cache + 64 <= scratch_end || cache >= kThetaCacheMinPoints) {
       o->theta_cache_cap = uint32_t(cache);  // < 2^27: the slots are validated
       o->theta_cache = cv.take<uint8_t>(cache);
@@ -328,7 +307,6 @@ void reset_counters(pv_session *s) {
   s->warmup_count = 0;
   s->bins.clear();
   if (s->floor_layers > 0) s->floor_bins.clear();
-  if (binning::LayerBins *sp = s->bins.spill()) sp->clear();
   s->layer_info_count = 0;
 }
 
@@ -402,8 +380,7 @@ extern "C" pv_status_t pv_session_push(pv_session_t *s, const pv_point_t *points
       // Per point, not per batch: where the repeat is seen does not depend
       // on how the caller cut the stream into pushes.
       if (!s->repeat_mode && s->have_transform &&
-          (s->sample.repeated() || s->bins.copy_refused() || s->floor_bins.copy_refused() ||
-           (s->bins.spill() != nullptr && s->bins.spill()->copy_refused()))) {
+          (s->sample.repeated() || s->bins.copy_refused() || s->floor_bins.copy_refused())) {
         session::start_repeat_mode(s);
       }
       if (!s->have_transform) {

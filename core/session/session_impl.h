@@ -160,8 +160,6 @@ struct pv_session {
   pv::gridding::Grid grid;
   pv::binning::LayerBins bins;
   pv::binning::LayerBins floor_bins;  // method surface: one bin for the floor band
-  // (Method surface, with the ranks: what the two thin away goes to their
-  // spill store, bins.spill(), carved in the block: binning/layer_bins.h.)
 
   // Finish-time scratch (bounded, inside the block).
   uint32_t *order;        // slot ids sorted by final layer
@@ -182,19 +180,12 @@ struct pv_session {
   size_t seq_scratch_cap;
   pv_layer_info_t *layer_info;  // layers
   uint32_t layer_info_count;
-  uint32_t theta_cache_cap;  // entries (stored points: bins, floor store, spill)
+  uint32_t theta_cache_cap;  // entries (stored points: bins and floor store)
   pv::surface::Workspace surf;  // method surface only (else empty)
   uint8_t *theta_cache;   // method surface: each stored point's theta bin between passes
 };
 
 namespace pv::session {
-
-// Points the stores dropped for good: the spill's, where there is one (the
-// layer bins' and the floor store's thinned points went to it).
-inline bool points_dropped(const pv_session *s) {
-  if (const binning::LayerBins *sp = s->bins.spill()) return sp->thinned() > 0;
-  return s->bins.thinned() > 0 || s->floor_bins.thinned() > 0;
-}
 
 // Lays the session out in block (or counts bytes when block is null).
 size_t layout(const pv_config_t &cfg, unsigned char *block, pv_session *s);

@@ -125,32 +125,6 @@ bool mostly_lip(const float *cap, const float *hole, uint32_t T) {
   return rings > 0 && 2 * lips >= rings;
 }
 
-// On an oblique wall (an ellipse's) the outer edge runs across a bin by
-// about half the difference of its neighbours' edges, and the bin's third
-// largest radius lies at its far end: capped there, the outer wall at its
-// near end came into the grid. The sparse store hid it (a lip's layer
-// thinned to 1-2 points a bin kept its third largest near the middle);
-// with the spill's points a 0.1 m3 elliptical vessel read its outer wall
-// over 20 deg, -0.01 -> +0.51 % (tuning seed 1324 #432). The flat bins'
-// caps come in by that run, never into the inner wall's far end (the inner
-// edge, the third smallest radius, lies at the near end): a bare oblique
-// top spans its run alone, and capped inside it an elliptical pit without
-// surround was cut (-0.04 -> -0.59 %, #302); there the cap stays. Only
-// where most of the round is flat (a container): a pass slipped sideways
-// puts two wall tops side by side in some bins, and capped inside the
-// outer one a slip hid its second wall from the doubled-wall check (-4.7 %
-// with PV_OK, tuning seed 1323 #695).
-void oblique_caps(const float *edge, const float *hole, uint32_t T, float *cap) {
-  const auto tol = float(kLipTolMm);
-  for (uint32_t t = 0; t < T; ++t) {
-    const float el = edge[around(t, -1, T)], er = edge[around(t, 1, T)];
-    if (!(cap[t] < HUGE_VALF && el < HUGE_VALF && er < HUGE_VALF)) continue;
-    const float span = std::min(0.5f * std::fabs(er - el), float(kLipMaxSpanMm));
-    const float in = edge[t] - tol - span;
-    if (in >= hole[t] + span + tol) cap[t] = in;
-  }
-}
-
 bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *cap,
           float *vessel_cap, float *scratch, float **hole_out, float *width_out) {
   const uint32_t T = ws.cap.theta_bins;
@@ -180,7 +154,7 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
   float *const reach = carve(0.0f);       // window half-width, bins
   x.edge = edge;
   x.hole = hole;
-  src.surface(lip_batch, &x);
+  src.visit(src.ctx, lip_batch, &x);
   // A bin with too few top band points (a lip the scan saw from far) pools
   // the bins around it: its edges are the window's third largest and third
   // smallest radius (two strays beyond an edge do not move it).
@@ -202,7 +176,7 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
     reach[t] = float(std::min(d, kLipMaxReach));
   }
   x.second = true;
-  src.surface(lip_batch, &x);
+  src.visit(src.ctx, lip_batch, &x);
   for (uint32_t t = 0; t < T; ++t) {
     float n = 0.0f, in = 0.0f, nb = 0.0f, nb_out = 0.0f, mid = 0.0f;
     const int r = int(reach[t]);
@@ -236,7 +210,6 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
   // carried a cap across an elliptical wall (held-out elliptical-n-102:
   // -0.47 -> -3.26 %): there the bins keep their own inner edge.
   const bool vessel = w <= float(kLipMaxWidthMm) && T >= kLipFillMinBins;
-  if (2 * flat >= known) oblique_caps(edge, hole, T, cap);
   float *const flat_cap = x.e2;  // the second largest radii are spent too
   for (uint32_t t = 0; t < T; ++t) flat_cap[t] = cap[t];
   if (2 * flat >= known) {

@@ -22,7 +22,6 @@ namespace pv::surface {
 
 constexpr double kLipBandMm = 1.0;  // top band: this close to the rim plane
 constexpr double kLipTolMm = 1.5;   // cap this far inside the top's outer edge
-constexpr double kLipMaxSpanMm = 6.0;  // and an oblique edge's run across the bin, at most
 // A theta bin's top is flat (a lip or a ground ring, not the top of a wall
 // that ends at the rim) when this share of its top band points lies
 // further in than kLipTolMm from its outer edge: a 3 mm lip holds half of

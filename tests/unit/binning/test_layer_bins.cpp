@@ -59,7 +59,7 @@ void kept_points_do_not_depend_on_order(void **) {
 void ranks_keep_the_same_points_in_the_same_order(void **) {
   std::vector<unsigned char> m1(pv::binning::LayerBins::bytes_needed(3, 64));
   std::vector<unsigned char> m2(pv::binning::LayerBins::bytes_needed(3, 64, true));
-  assert_int_equal(m2.size() - m1.size(), 3 * 64 + sizeof(void *));  // and the spill link
+  assert_int_equal(m2.size() - m1.size(), 3 * 64);
   pv::binning::LayerBins a, b;
   a.init(m1.data(), 3, 64);
   b.init(m2.data(), 3, 64, true);
@@ -146,59 +146,6 @@ void a_sparse_bin_thins_at_the_dense_bins_rate(void **) {
   }
 }
 
-// A flat layer (one bin 40 times fuller than the others) with a spill:
-// the bin and the spill together hold exactly its points of rank at least
-// the spill's level (the layer sampled at that rate, not its own), every
-// point is stored or counted thinned once, and the split does not depend
-// on the order the points came in. Bins without the ranks have no spill.
-void a_spill_keeps_what_a_full_bin_thins(void **) {
-  {
-    std::vector<unsigned char> m(pv::binning::LayerBins::bytes_needed(1, 64));
-    pv::binning::LayerBins plain, other;
-    plain.init(m.data(), 1, 64);
-    plain.set_spill(&other);
-    assert_null(plain.spill());
-  }
-  {
-    const bool ranks = true;
-    std::vector<Stream> s;
-    for (uint32_t j = 0; j < 4; ++j) {
-      const int n = j == 2 ? 8000 : 200;
-      for (int i = 0; i < n; ++i) s.push_back({j, pv::P3{float(i) * 0.01f, float(j), float(i % 7)}});
-    }
-    const size_t bytes = pv::binning::LayerBins::bytes_needed(4, 256, ranks);
-    const size_t spill_bytes = pv::binning::LayerBins::bytes_needed(1, 1024, ranks);
-    std::vector<unsigned char> m1(bytes), m2(bytes), s1(spill_bytes), s2(spill_bytes);
-    pv::binning::LayerBins a, b, sa, sb;
-    a.init(m1.data(), 4, 256, ranks);
-    b.init(m2.data(), 4, 256, ranks);
-    sa.init(s1.data(), 1, 1024, ranks);
-    sb.init(s2.data(), 1, 1024, ranks);
-    a.set_spill(&sa);
-    b.set_spill(&sb);
-    fill(a, s);
-    // 8,000 points in 256 slots: level >= 5; the spill's 1024 more take the
-    // layer down to level 3 (8,000 / 8 = 1,000 of rank >= 3).
-    assert_true(a.level(2) >= 5);
-    assert_true(sa.level(0) >= 2 && sa.level(0) <= 3);
-    assert_ptr_equal(a.spill(), &sa);
-    assert_int_equal(a.level(0), 0);  // 200 points fit their bin: none spilled
-    size_t want = 0;
-    for (const Stream &x : s) {
-      if (x.bin == 2) want += pv::binning::LayerBins::passes(pv::point_hash(x.p), sa.level(0));
-    }
-    assert_int_equal(a.count(2) + sa.count(0), want);
-    assert_true(want > 3 * a.count(2));  // several times what the bin holds alone
-    assert_int_equal(a.stored() + sa.stored() + sa.thinned(), s.size());
-    std::reverse(s.begin(), s.end());
-    for (size_t i = 0; i + 5 < s.size(); i += 5) std::swap(s[i], s[s.size() - 1 - i]);
-    fill(b, s);
-    assert_int_equal(sa.level(0), sb.level(0));
-    assert_true(hashes_in(sa, 0) == hashes_in(sb, 0));
-    for (uint32_t j = 0; j < 4; ++j) assert_true(hashes_in(a, j) == hashes_in(b, j));
-  }
-}
-
 void clear_forgets_everything(void **) {
   std::vector<unsigned char> mem(pv::binning::LayerBins::bytes_needed(2, 64));
   pv::binning::LayerBins bins;
@@ -276,7 +223,6 @@ int main() {
       cmocka_unit_test(kept_points_do_not_depend_on_order),
       cmocka_unit_test(ranks_keep_the_same_points_in_the_same_order),
       cmocka_unit_test(a_sparse_bin_thins_at_the_dense_bins_rate),
-      cmocka_unit_test(a_spill_keeps_what_a_full_bin_thins),
       cmocka_unit_test(clear_forgets_everything),
       cmocka_unit_test(the_index_finds_what_a_bin_holds),
       cmocka_unit_test(the_index_keeps_one_of_each_copy),

@@ -74,14 +74,8 @@ measure 71 1300
 # support plane, else the scanner-upright frame; rim/support_plane.h):
 # nominal pits with a ground ring were refused PV_ERR_NO_RIM: a bulge whose
 # ground holds a quarter of the top band less a point (tuning seed 1300),
-# Inside its interval, not within 0.1 %: with the lip's passes reading the
-# spill store, 123 of its 138 bins' ground rings look flat (67 of 114
-# before) and their caps, plumb from the ground's seen edge, cut the bulge
-# under the overhang where the ground was seen narrower than it: -0.01 ->
-# -0.11 % +/- 0.36 % (bulges with ground on tuning seeds 1323 and 1324 read
-# nearer the truth with it: -0.27 -> -0.01 %, -0.20 -> -0.02 %).
 measure 128 1300
-measured_inside "1300/128 (ground under a quarter of the band)"
+[ "$status" = PV_OK ] && within 0.1 || fail "1300/128 (ground under a quarter of the band): $status $volume cm3 against $exact"
 # and a bowl whose floor fit was 9 deg off a 19 deg scan;
 measure 145 1300
 [ "$status" = PV_OK ] && within 0.25 || fail "1300/145 (bowl, floor fit 9 deg off): $status $volume cm3 against $exact"
@@ -457,10 +451,9 @@ sweep_args="--family hand_dug --condition slip_vertical" measure 145 1320
 # from a scanner looking down, bridged along the line of sight from the
 # lower flank's bin to the wall above: -0.14 % (tuning seed 1324). A band
 # of at most 6 mm under a narrower seen bin is an undercut, bridged at the
-# lower bin's radius. Within 0.1 %: with the lip's passes reading the
-# spill store its ground ring's caps moved it +0.004 -> +0.06 % (+/- 0.77 %).
+# lower bin's radius.
 sweep_args="--family textured --condition grooves" measure 609 1324
-[ "$status" = PV_OK ] && within 0.1 || fail "1324/609 (textured, grooves' upper flanks): $status $check $volume cm3 against $exact"
+[ "$status" = PV_OK ] && within 0.05 || fail "1324/609 (textured, grooves' upper flanks): $status $check $volume cm3 against $exact"
 # A 249 L textured pit without surround (sent 5 times over; its single
 # copy reads the same): its rough top looked flat in 37 bins, and behind
 # the thin lip's 1 mm gap its grooves counted as a vessel's inner wall
@@ -491,13 +484,4 @@ measured_inside "1324/42 (a neck over the floor)"
 # slipped pass's floor shows.
 sweep_args="--family protrusions --condition long" measure 265 1324
 measured_inside "1324/265 (long scan, multipath over the floor)"
-# A 119 L bulge vessel scanned in three passes: its lip's 0.5 mm layer (a
-# flat ring, 17,000 points) thinned to 1-2 points per 2 deg bin while the
-# wall's top layers kept 5-8, so the lip test found the flat ring in 57 of
-# 180 bins (its single pass: 180), the outer wall 7.6 mm behind went into
-# the grid and the inner wall counted inside the void (0.23): refused
-# POINTS_INSIDE (tuning seed 1323). With the spill store the lip's passes
-# read the layer at the others' density: +0.41 % +/- 0.48 %.
-sweep_args="--family bulge --condition long" measure 361 1323
-measured_inside "1323/361 (long vessel, its lip thinned)"
-echo "envelope findings: 74 cases as expected"
+echo "envelope findings: 73 cases as expected"
