@@ -209,9 +209,31 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
   // spans enough radius within a bin to look like a flat ring, and the fill
   // carried a cap across an elliptical wall (held-out elliptical-n-102:
   // -0.47 -> -3.26 %): there the bins keep their own inner edge.
-  const bool vessel = w <= float(kLipMaxWidthMm) && T >= kLipFillMinBins;
+  const bool fine = T >= kLipFillMinBins;
+  const bool vessel = w <= float(kLipMaxWidthMm) && fine;
   float *const flat_cap = x.e2;  // the second largest radii are spent too
   for (uint32_t t = 0; t < T; ++t) flat_cap[t] = cap[t];
+  // A ring wider than a vessel's lip is the ground, or a vessel's top
+  // reaching out over a bulge or grooves to its outer wall. A ground has
+  // nothing behind it, and its outer edge is only where the scan stopped:
+  // capped there, a bulge's wall under the overhang, reaching out further
+  // than the ground was seen, was cut (bulges with ground, tuning seed 1324
+  // #151 -0.27 %, #123 -0.21 %, 1323 #242 -0.16 %; 1300 #128 -0.11 % with a
+  // denser top band). A vessel's outer wall stands at its top's edge, and
+  // uncapped, a grooved bowl vessel with a 28 mm top was refused
+  // OVER_MOUTH (fresh seed 1330 #133). So the round is undecided: nothing
+  // capped, and the caps it would have as a vessel's hold where the wall
+  // below shows an outer wall (surface_model.cpp, kOuterWallShare).
+  if (!vessel && fine) {
+    if (2 * flat >= known) {
+      fill_caps(flat_cap, hole, w, false, false, T, vessel_cap);
+    } else {
+      std::copy(flat_cap, flat_cap + T, vessel_cap);
+    }
+    std::fill(cap, cap + T, HUGE_VALF);
+    *width_out = w;
+    return true;
+  }
   if (2 * flat >= known) {
     fill_caps(flat_cap, hole, w, vessel, false, T, cap);
     return false;

@@ -49,7 +49,9 @@ constexpr int kLipMaxReach = 3;
 // Where the flat bins' median width is a vessel's lip (at most
 // kLipMaxWidthMm; the simulator's lips are 3-15 mm, its ground rings 40 mm
 // and more), a bin that is not flat takes its cap from the nearest flat bins
-// within kLipFillReachDeg either side (container_lip.cpp says why).
+// within kLipFillReachDeg either side (container_lip.cpp says why). A wider
+// ring (a ground, or a vessel's top reaching out over a bulge) is capped
+// only where the wall below shows an outer wall.
 constexpr double kLipMaxWidthMm = 20.0;
 constexpr double kLipFillReachDeg = 30.0;
 constexpr uint32_t kLipFillMinBins = 180;  // 2 deg bins or finer
@@ -71,7 +73,9 @@ constexpr double kLipMaxWidthSpread = 2.5;
 // a vessel's, cap holds the flat bins only and vessel_cap (theta_bins
 // floats) the whole round as a vessel's (the flat bins' caps carried round):
 // returns true, and the grid decides from the wall below which it is
-// (surface_model.cpp, kOuterWallShare). vessel_lip: most capped bins'
+// (surface_model.cpp, kOuterWallShare). So too where the flat bins' width
+// is wider than a vessel's lip, on bins of 2 deg or finer: then cap holds
+// nothing. vessel_lip: most capped bins'
 // flat top (of the vessel's caps where the round is undecided), from the
 // bin's inner edge out to the cap's edge, is kLipMaxWidthMm wide or
 // narrower (Model::vessel_lip).

@@ -23,6 +23,9 @@ using pv::test::Rng;
 struct Pit {
   double a = 100, b = 100;      // semi-axes at z = 0
   double taper = 0;             // radius grows by taper * z
+  double bulge = 0;             // radius grows by bulge * sin(pi z / depth)
+  double top_mm = 60;           // the flat ring at the rim: a ground's width
+  bool outer_wall = false;      // a vessel: a wall at the top's outer edge
   double depth = 200;
   double bowl_radius = 0;       // > 0: the floor is a sphere cap of this radius
   double gap_from = -1, gap_to = -1;  // wall band with no points
@@ -41,7 +44,8 @@ struct Pit {
       return std::sqrt(std::max(0.0, R * R - (R - z) * (R - z)));
     }
     const double s = 1 + taper * z / a;
-    return s * a * b / std::sqrt(std::pow(b * std::cos(th), 2) + std::pow(a * std::sin(th), 2));
+    const double out = bulge * std::sin(kPi * std::min(z, depth) / depth);
+    return out + s * a * b / std::sqrt(std::pow(b * std::cos(th), 2) + std::pow(a * std::sin(th), 2));
   }
 };
 
@@ -56,9 +60,13 @@ std::vector<Point> points_of(const Pit &p, uint64_t seed) {
       double r = p.rw(th, z) + noise * rng.gauss();
       if (p.keep_wall < 1 && !(rng.uniform() < p.keep_wall)) continue;
       if (p.in_patch(th, r)) continue;
-      if (z > p.depth) r += 60 * rng.uniform();  // ground ring, above the rim
+      if (z > p.depth) r += p.top_mm * rng.uniform();  // ground ring, above the rim
       const double zz = std::min(z, p.depth) + (z > p.depth ? 0.0 : 0.0);
       v.push_back(Point{r * std::cos(th), r * std::sin(th), zz});
+      if (p.outer_wall && z <= p.depth) {
+        const double ro = p.rw(th, p.depth) + p.top_mm + noise * rng.gauss();
+        v.push_back(Point{ro * std::cos(th), ro * std::sin(th), z});
+      }
       if (rng.uniform() < p.multipath) {
         const double f = 0.3 + 0.6 * rng.uniform();
         v.push_back(Point{f * r * std::cos(th), f * r * std::sin(th), zz});
@@ -186,6 +194,31 @@ void bowl_floor_hole_within_interval(void **) {
   if (!(std::fabs(r.v.volume_mm3 - truth) <= interval)) {
     fail_msg("%.1f mm3 +/- %.1f, truth %.1f", r.v.volume_mm3, interval, truth);
   }
+}
+
+// A bulge reaching 80 mm further out under its rim than the 60 mm ground
+// ring around it: the ring caps nothing (nothing stands behind a ground),
+// where capped from the ring's outer edge the bulge lost what lies beyond
+// it (-11.8 %). V = pi (a^2 D + 4 a B D / pi + B^2 D / 2).
+void ground_ring_caps_no_bulge(void **) {
+  Pit p;
+  p.bulge = 80;
+  auto pts = points_of(p, 8);
+  const double a = p.a, B = p.bulge, D = p.depth;
+  expect_within(measure(pts, p.depth).v.volume_mm3, kPi * (a * a * D + 4 * a * B * D / kPi + B * B * D / 2),
+                0.001);
+}
+
+// A vessel's top as wide as a ground (a flat ring 28 mm wide), its outer
+// wall at the ring's edge all the way down: the wall below shows the outer
+// wall with the inner one behind it, so the ring caps it as a vessel's
+// (uncapped: +64 %).
+void wide_vessel_top_caps_outer_wall(void **) {
+  Pit p;
+  p.top_mm = 28;
+  p.outer_wall = true;
+  auto pts = points_of(p, 9);
+  expect_within(measure(pts, p.depth).v.volume_mm3, kPi * 100 * 100 * p.depth, 0.001);
 }
 
 void multipath_inside_changes_nothing(void **) {
@@ -342,6 +375,8 @@ int main() {
       cmocka_unit_test(ellipse_volume_is_exact),
       cmocka_unit_test(bowl_volume_is_exact),
       cmocka_unit_test(bowl_floor_hole_within_interval),
+      cmocka_unit_test(ground_ring_caps_no_bulge),
+      cmocka_unit_test(wide_vessel_top_caps_outer_wall),
       cmocka_unit_test(multipath_inside_changes_nothing),
       cmocka_unit_test(removed_band_is_bridged_within_interval),
       cmocka_unit_test(coarse_ellipse_borrows_slope),
