@@ -210,7 +210,7 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
   // carried a cap across an elliptical wall (held-out elliptical-n-102:
   // -0.47 -> -3.26 %): there the bins keep their own inner edge.
   const bool fine = T >= kLipFillMinBins;
-  const bool vessel = w <= float(kLipMaxWidthMm) && fine;
+  const bool vessel = !wide_ring(w) && fine;
   float *const flat_cap = x.e2;  // the second largest radii are spent too
   for (uint32_t t = 0; t < T; ++t) flat_cap[t] = cap[t];
   // A ring wider than a vessel's lip is the ground, or a vessel's top
@@ -224,7 +224,7 @@ bool caps(const PointSource &src, const Workspace &ws, const Model &m, float *ca
   // OVER_MOUTH (fresh seed 1330 #133). So the round is undecided: nothing
   // capped, and the caps it would have as a vessel's hold where the wall
   // below shows an outer wall (surface_model.cpp, kOuterWallShare).
-  if (!vessel && fine) {
+  if (wide_ring(w) && fine) {
     if (2 * flat >= known) {
       fill_caps(flat_cap, hole, w, false, false, T, vessel_cap);
     } else {

@@ -53,6 +53,10 @@ constexpr int kLipMaxReach = 3;
 // ring (a ground, or a vessel's top reaching out over a bulge) is capped
 // only where the wall below shows an outer wall.
 constexpr double kLipMaxWidthMm = 20.0;
+// A flat ring wider than a lip: a ground, or a vessel's top reaching out
+// over a bulge (lip_caps() leaves its round undecided; the grid counts the
+// outer wall's evidence near its caps only: surface_model.cpp).
+constexpr bool wide_ring(double width_mm) { return width_mm > kLipMaxWidthMm; }
 constexpr double kLipFillReachDeg = 30.0;
 constexpr uint32_t kLipFillMinBins = 180;  // 2 deg bins or finer
 // Under half of the round flat, the round may still be a vessel's where

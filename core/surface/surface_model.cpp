@@ -1386,7 +1386,7 @@ GridCtx grid_passes(const PointSource &src, const Params &p, Workspace &ws, cons
   gc.lip_cap = ws.lip_cap;
   gc.vessel_cap = vessel_cap;
   gc.inner_gap = inner_wall_gap(lip_width_mm);
-  if (lip_width_mm > kLipMaxWidthMm) gc.outer_beyond = float(kOuterMaxBeyondMm);
+  if (wide_ring(lip_width_mm)) gc.outer_beyond = float(kOuterMaxBeyondMm);
   gc.ghost = p.ghost_mm;
   gc.slip = p.slip_mm;
   if (p.coarse_bins) {
