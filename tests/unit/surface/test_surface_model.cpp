@@ -1,7 +1,8 @@
 // pv::surface (method "surface") against pits of exactly known volume built
 // from points: cylinder, cone frustum, elliptical cylinder, a bowl (sphere
-// cap), a cylinder with multipath inside, and one with a band of wall
-// removed (bridged, inside the interval); and with the MCU profile's coarse
+// cap), a cylinder with multipath inside, one with a band of wall removed
+// (bridged, inside the interval), one with multipath under a neck where the
+// wall is hidden (not wall); and with the MCU profile's coarse
 // bins and few points (Params::coarse_bins): an ellipse and a bowl.
 #include <algorithm>
 #include <cmath>
@@ -30,6 +31,12 @@ struct Pit {
   double bowl_radius = 0;       // > 0: the floor is a sphere cap of this radius
   double gap_from = -1, gap_to = -1;  // wall band with no points
   double multipath = 0;         // share of points floating inside
+  // A neck: the wall stands neck_mm further in over [neck_from, neck_to);
+  // the wall under it over [hidden_from, neck_from) is hidden, and in its
+  // place fog_points points float at neck_mm + 5 to neck_mm + 55 mm inside
+  // the wall (multipath of the floor seen through the neck).
+  double neck_mm = 0, neck_from = 0, neck_to = 0, hidden_from = 0;
+  int fog_points = 0;
   double keep_wall = 1, keep_floor = 1;  // share of the points kept (the MCU's few)
   // A wet patch: no point, wall or floor, at a horizontal radius in
   // [patch_r0, patch_r1) and an angle in [0, patch_th) rad.
@@ -44,7 +51,8 @@ struct Pit {
       return std::sqrt(std::max(0.0, R * R - (R - z) * (R - z)));
     }
     const double s = 1 + taper * z / a;
-    const double out = bulge * std::sin(kPi * std::min(z, depth) / depth);
+    const double out = bulge * std::sin(kPi * std::min(z, depth) / depth) -
+                       (z >= neck_from && z < neck_to ? neck_mm : 0.0);
     return out + s * a * b / std::sqrt(std::pow(b * std::cos(th), 2) + std::pow(a * std::sin(th), 2));
   }
 };
@@ -55,6 +63,7 @@ std::vector<Point> points_of(const Pit &p, uint64_t seed) {
   const double noise = 0.05;
   for (double z = 0.25; z < p.depth + 3; z += 0.5) {
     if (z >= p.gap_from && z < p.gap_to) continue;
+    if (z >= p.hidden_from && z < p.neck_from) continue;
     for (int k = 0; k < 720; ++k) {
       const double th = (k + rng.uniform()) * 2 * kPi / 720;
       double r = p.rw(th, z) + noise * rng.gauss();
@@ -72,6 +81,11 @@ std::vector<Point> points_of(const Pit &p, uint64_t seed) {
         v.push_back(Point{f * r * std::cos(th), f * r * std::sin(th), zz});
       }
     }
+  }
+  for (int k = 0; k < p.fog_points; ++k) {
+    const double th = rng.uniform() * 2 * kPi, z = p.hidden_from + (p.neck_from - p.hidden_from) * rng.uniform();
+    const double r = p.rw(th, z) - p.neck_mm - 5 - 50 * rng.uniform();
+    v.push_back(Point{r * std::cos(th), r * std::sin(th), z});
   }
   // Floor: a dense grid inside the z = 0 outline.
   for (double x = -200; x <= 200; x += 1.0) {
@@ -242,6 +256,24 @@ void removed_band_is_bridged_within_interval(void **) {
   assert_true(r.unseen_share > 0.05 && r.unseen_share < 0.25);
 }
 
+// A neck 20 mm in over 20 mm of height, the 40 mm of wall under it hidden
+// all round, and in their place multipath: single points at about the
+// neck's radius and inside it, in about half the hidden bins (a long
+// scan's). They are not wall: the pit reads as it does without them (taken
+// for wall, the hidden band read up to 50 mm inside the wall: -6.7 %).
+void fog_under_neck_is_no_wall(void **) {
+  Pit p;
+  p.neck_mm = 20;
+  p.neck_from = 100;
+  p.neck_to = 120;
+  p.hidden_from = 60;
+  auto clear = points_of(p, 10);
+  const double without = measure(clear, p.depth).v.volume_mm3;
+  p.fog_points = 3000;
+  auto fog = points_of(p, 10);
+  expect_within(measure(fog, p.depth).v.volume_mm3, without, 0.001);
+}
+
 // The MCU profile's grids (pv_config_mcu()) and about its point
 // budget: 64 points per 2 mm layer is 32 wall points per mm of height, of
 // the 1440 here; its floor store, some 2,500 points.
@@ -376,6 +408,7 @@ int main() {
       cmocka_unit_test(bowl_volume_is_exact),
       cmocka_unit_test(bowl_floor_hole_within_interval),
       cmocka_unit_test(ground_ring_caps_no_bulge),
+      cmocka_unit_test(fog_under_neck_is_no_wall),
       cmocka_unit_test(wide_vessel_top_caps_outer_wall),
       cmocka_unit_test(multipath_inside_changes_nothing),
       cmocka_unit_test(removed_band_is_bridged_within_interval),
