@@ -261,7 +261,7 @@ void grooved_pit_measures(void **) {
 // n points of a cylinder pit of radius r_pit and depth h with a ground ring
 // out to radius outer, raised by dz: 35 % floor, 40 % wall, 25 % ground.
 void add_pit_with_ground(Rng &g, int n, double r_pit, double h, double outer, double dz,
-                         std::vector<pv_point_t> *v) {
+                         std::vector<pv_point_t> *v, double dx = 0.0) {
   for (int i = 0; i < n; ++i) {
     const double u = g.uniform(), t = 2 * kPi * g.uniform();
     double r, z;
@@ -275,13 +275,13 @@ void add_pit_with_ground(Rng &g, int n, double r_pit, double h, double outer, do
       r = std::sqrt(r_pit * r_pit + (outer * outer - r_pit * r_pit) * g.uniform());
       z = h + 0.1 * g.gauss();
     }
-    v->push_back(P(r * std::cos(t), r * std::sin(t), z + dz));
+    v->push_back(P(r * std::cos(t) + dx, r * std::sin(t), z + dz));
   }
 }
 
 // A pit 760 mm across (wider than the default grids: the model is built
-// again on grids scaled to it, where the wall's and the floor's doubled-
-// scan checks do not run), 200 mm deep, with a ground ring out to 480 mm:
+// again on grids scaled to it, where the doubled wall's contrast holds at
+// its own limit), 200 mm deep, with a ground ring out to 480 mm:
 // floor, wall and ground; copy_dz: the tracking slipped that far up after
 // the first third of the scan (0: no slip).
 std::vector<pv_point_t> wide_pit_with_ground(double copy_dz) {
@@ -298,6 +298,18 @@ std::vector<pv_point_t> wide_pit_with_ground(double copy_dz) {
 // grids. The first pass's ground lies 20 mm under the rim all round.
 void slipped_pass_with_ground_is_refused(void **) {
   expect_refused(wide_pit_with_ground(20.0), "a pass slipped 20 mm up", PV_PIT_CHECK_DOUBLED_RIM);
+}
+
+// Its second pass slipped 5 mm sideways: the wall twice, 5 mm apart on
+// the two sides the shift points to, one on the other across them. On the
+// scaled grids the contrast holds at 0.45 (real pits there up to 0.41;
+// unchecked, a 5.5 mm slip read +0.81 % with PV_OK, sweep seed 1333 #324).
+void wide_pit_slipped_sideways_is_refused(void **) {
+  Rng g{11};
+  std::vector<pv_point_t> v;
+  add_pit_with_ground(g, 100000, 380, 200, 480, 0.0, &v);
+  add_pit_with_ground(g, 200000, 380, 200, 480, 0.0, &v, 5.0);
+  expect_refused(v, "a pass slipped 5 mm sideways", PV_PIT_CHECK_DOUBLED_WALL);
 }
 
 // The same pit scanned once measures (its ground ring has one level).
@@ -429,6 +441,7 @@ int main() {
       PV_EACH_METHOD(pit_in_centimetres_is_refused),
       PV_EACH_METHOD(one_litre_hole_measures),
       PV_EACH_METHOD(slipped_pass_with_ground_is_refused),
+      PV_EACH_METHOD(wide_pit_slipped_sideways_is_refused),
       PV_EACH_METHOD(wide_pit_with_ground_measures),
       PV_EACH_METHOD(pit_past_the_widest_grids_is_refused),
       PV_EACH_METHOD(slipped_wall_pass_is_refused),

@@ -390,6 +390,16 @@ sweep_args="--family textured --condition slip_lateral" measure 63 1313
 # Its single pass measures.
 twin=1 sweep_args="--family textured --condition slip_lateral" measure 63 1313
 measured_inside "1313/063 1x"
+# A second pass 5.5 mm aside in a 0.35 m3 hand-dug pit 783 mm across,
+# measured on grids scaled to it where the wall's contrast was not checked:
+# +0.81 % with PV_OK outside +/- 0.36 % (tuning seed 1333). The contrast
+# holds there at a higher limit (0.45; the slip reads 0.53); its single
+# pass (0.004) measures.
+keep=1 measure 324 1333
+[ "$status" = PV_ERR_NOT_A_PIT ] && [ "$check" = PV_PIT_CHECK_DOUBLED_WALL ] ||
+  fail "1333/324 (lateral slip on scaled grids): $status $check $volume +/- $interval cm3 against $exact"
+twin=1 measure 324 1333
+measured_inside "1333/324 1x"
 # A rounded bowl 87 L held 58 deg off: the floor-plane start settled 22
 # deg off it and found an opening whose section was a sixth of the pit's
 # below it, refused NARROW_MOUTH (tuning seed 1311). The frame from the
