@@ -905,6 +905,16 @@ void reject_fog_under_necks(Workspace &ws, const Geo &g, const Params &p, Model 
 // the simulator's single scans, textured grooves included, reach it all
 // round, not on two opposite sides (docs/reliability.md, "Doubled scans").
 constexpr double kThickBandMm = 0.3;
+// A protrusion's edges hold two surfaces in one bin: thick bins wherever
+// its blocks stand, up to a third of a sector's. On a small pit's few
+// dense bins (65-131 in a pair of sectors) where the blocks stood in some
+// sectors and not across, they made 0.23 of contrast by chance, refused
+// as doubled scans (sweep seed 1333 #476 and #615). So the thick bins'
+// contrast is taken less twice its standard error: those read 0.08 and
+// 0.09; a copy within the band thickens 0.89-0.98 of the facing sectors'
+// bins (test_doubled_scans: 0.86-0.95 counted so), and the sweeps' slips
+// over 0.2 thick read 0.18-0.42 so (seed 1333).
+constexpr double kThickErrorSigmas = 2.0;
 
 // A floor cell counts for the floor's ghost share (Model::
 // floor_level_points) where the floor rises at most this many bands from
@@ -926,9 +936,10 @@ bool level_cell(const Workspace &ws, const Geo &g, uint32_t x, uint32_t y, float
 
 // The largest, over the directions, of a count's share (per T theta
 // columns) in the two 60 deg sectors facing a direction less its share in
-// the two across; -1 where no direction has kMinSectorBins dense bins in
-// both pairs.
-double sector_contrast(const uint32_t *dense, const uint32_t *count, uint32_t T) {
+// the two across, less error_sigmas standard errors of that difference
+// (binomial, the two pairs' shares pooled); -1 where no direction has
+// kMinSectorBins dense bins in both pairs.
+double sector_contrast(const uint32_t *dense, const uint32_t *count, uint32_t T, double error_sigmas = 0.0) {
   // Sectors of 60 deg: the columns within T / 12 of a centre (exclusive).
   const uint32_t w = (T + 11) / 12 - 1;
   const auto sector = [&](const uint32_t *c, uint32_t centre) {
@@ -944,7 +955,12 @@ double sector_contrast(const uint32_t *dense, const uint32_t *count, uint32_t T)
     if (on_n < kMinSectorBins || off_n < kMinSectorBins) continue;
     const double on = double(sector(count, k) + sector(count, k + half)) / on_n;
     const double off = double(sector(count, k + quarter) + sector(count, k + half + quarter)) / off_n;
-    contrast = std::max(contrast, on - off);
+    double error = 0.0;
+    if (error_sigmas > 0) {
+      const double share = (on * on_n + off * off_n) / double(on_n + off_n);
+      error = error_sigmas * std::sqrt(share * (1.0 - share) * (1.0 / on_n + 1.0 / off_n));
+    }
+    contrast = std::max(contrast, on - off - error);
   }
   return contrast;
 }
@@ -1016,7 +1032,7 @@ void count_wall_ghosts(const Workspace &ws, const Geo &g, bool coarse, Model *m)
   }
   double behind = sector_contrast(dense, ghost, g.T);
   if (behind < 0 && !coarse) behind = pooled_ghost_contrast(ws, g);
-  const double spread = sector_contrast(dense, thick, g.T);
+  const double spread = sector_contrast(dense, thick, g.T, kThickErrorSigmas);
   m->ghost_contrast = std::max(behind, spread);
 }
 

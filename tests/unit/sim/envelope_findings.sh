@@ -400,6 +400,12 @@ keep=1 measure 324 1333
   fail "1333/324 (lateral slip on scaled grids): $status $check $volume +/- $interval cm3 against $exact"
 twin=1 measure 324 1333
 measured_inside "1333/324 1x"
+# A 2.3 L protrusion pit scanned tilted: its blocks' edges hold two surfaces in
+# a bin, and on its few dense bins (69 and 67 in the two pairs of sectors)
+# where the blocks stood made 0.23 of thick-bin contrast: refused
+# DOUBLED_WALL (tuning seed 1333). Less twice its standard error: 0.08.
+measure 476 1333
+measured_inside "1333/476 (protrusion pit, thick bins by chance)"
 # A rounded bowl 87 L held 58 deg off: the floor-plane start settled 22
 # deg off it and found an opening whose section was a sixth of the pit's
 # below it, refused NARROW_MOUTH (tuning seed 1311). The frame from the
