@@ -111,9 +111,9 @@ bool ghost_checks_apply(const surface::Params &p) {
 // and tilted 10 (2,914 scans, 580 real pits measured on scaled grids): the
 // real pits 0.009 at most there, where 8 vertical slips of 2.7-8 mm in wide
 // containers and bowls measured with PV_OK read 0.045-0.26 (6 of them
-// +0.5 to +1.7 % outside their intervals). The wall's contrast does not
-// (its 2 deg bins span 17 mm of a 500 mm wall: real ellipticals and shallow
-// containers read 0.23-0.42 there), so it stays on the configuration's grids.
+// +0.5 to +1.7 % outside their intervals). The wall's contrast reads
+// higher there (its 2 deg bins span 17 mm of a 500 mm wall): its own
+// limit, ghost_contrast_limit() below.
 bool floor_ghost_check_applies(const pv_config_t &cfg) { return ghost_checks_apply(surface_params(cfg)); }
 // On the grids scaled to a wide pit the wall's contrast holds at a higher
 // limit: real pits there read up to 0.41 (a 0.4 m3 shallow container on
