@@ -34,6 +34,13 @@ constexpr double kMinMouthRatio = 0.5;
 // round 0.05 to 0.09 (test_not_a_pit); of 214 doubled scans 2 to 5 mm
 // apart, those under the floor's limit 0.21 up.
 constexpr double kMaxGhostContrast = 0.2;
+// The smallest pits' walls, too sparse for any contrast: the share of
+// their 10 deg sectors with a tenth of their points behind the band
+// (surface::Model::sparse_ghost_share). A second pass 3.8 mm aside on a
+// 1.0 L bulge: 0.44; the 63 real pits so counted on tuning seeds
+// 1333-1335: 0.19 at most (a sparse bowl refused WALL_GAP), 0.17 among
+// those measured.
+constexpr double kMaxSparseGhostShare = 1.0 / 3.0;
 // Floor: the share of the floor's points a few mm above its surface
 // (away from the wall's foot), from enough points, over the level cells
 // (Model::floor_level_points; over every cell where those hold too few).
@@ -448,6 +455,9 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
   }
   if (ghost_limit > 0 && m.ghost_contrast > ghost_limit) {
     return refuse(PV_PIT_CHECK_DOUBLED_WALL, m.ghost_contrast, ghost_limit);
+  }
+  if (ghost_limit > 0 && m.sparse_ghost_share > kMaxSparseGhostShare) {
+    return refuse(PV_PIT_CHECK_DOUBLED_SPARSE_WALL, m.sparse_ghost_share, kMaxSparseGhostShare);
   }
   if (occupancy_checks && m.vessel_lip) {
     const surface::ShiftedWall sw = surface::shifted_wall(occ);

@@ -84,6 +84,7 @@ extern "C" const char *pv_pit_check_name(uint32_t check) {
     case PV_PIT_CHECK_THIN_TOP: return "PV_PIT_CHECK_THIN_TOP";
     case PV_PIT_CHECK_OVER_MOUTH: return "PV_PIT_CHECK_OVER_MOUTH";
     case PV_PIT_CHECK_SHIFTED_WALL: return "PV_PIT_CHECK_SHIFTED_WALL";
+    case PV_PIT_CHECK_DOUBLED_SPARSE_WALL: return "PV_PIT_CHECK_DOUBLED_SPARSE_WALL";
     default: return "PV_PIT_CHECK_UNKNOWN";
   }
 }
@@ -112,6 +113,7 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
              "depth, and more than 0): they jump too much from layer to "
              "layer to be one pit's wall";
     case PV_PIT_CHECK_DOUBLED_WALL:
+    case PV_PIT_CHECK_DOUBLED_SPARSE_WALL:
       return "the wall appears twice, a few mm apart: the scan holds the pit "
              "twice, registered apart (the scanner lost its tracking during "
              "the scan); scan the pit again in one steady pass";

@@ -211,6 +211,12 @@ struct Model {
   // Floor: the points of the flooded floor cells in the band
   // (floor_points) and in the ghost_mm above it (floor_ghost_points).
   double ghost_contrast;
+  // Where no direction had the dense bins for it, not even pooled, on a
+  // wall small enough to pool (the smallest pits, a few points a bin): the
+  // share of the wall's 10 deg sectors (kGhostSectorPoints points or more)
+  // that hold a tenth of their points or more behind the band (-1: not
+  // counted, or fewer than half of the sectors hold enough points).
+  double sparse_ghost_share;
   uint64_t floor_points, floor_ghost_points;
   // The same over the level cells only (surface_model.cpp, level_cell()):
   // a sloping bottom (a rounded bowl's) puts its own surface in the ghost

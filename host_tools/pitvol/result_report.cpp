@@ -118,6 +118,12 @@ std::string check_figures(const pv_result_t &r) {
                     "across them (one scan: at most %.0f %%)",
                     100 * r.check_value, 100 * r.check_limit);
       break;
+    case PV_PIT_CHECK_DOUBLED_SPARSE_WALL:
+      std::snprintf(b, sizeof b,
+                    "a second wall behind the first in %.0f %% of the wall's 10 deg sectors (one scan: at most "
+                    "%.0f %%)",
+                    100 * r.check_value, 100 * r.check_limit);
+      break;
     case PV_PIT_CHECK_TOO_SMALL:
       std::snprintf(b, sizeof b,
                     "%.3g cm3 as millimetres (the smallest test hole: %.0f cm3); in cm it would be "

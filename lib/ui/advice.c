@@ -151,11 +151,13 @@ void pv_advice_refusal(const pv_result_t *r, pv_status_t st, pv_advice_t *out) {
           snprintf(todo, ct, "check the scan's units");
           return;
         case PV_PIT_CHECK_DOUBLED_WALL:
+        case PV_PIT_CHECK_DOUBLED_SPARSE_WALL:
         case PV_PIT_CHECK_DOUBLED_FLOOR:
         case PV_PIT_CHECK_DOUBLED_RIM:
           /* The scan holds the pit twice: the scanner lost its tracking. */
           snprintf(why, cw, "%s seen twice",
-                   r->failed_check == PV_PIT_CHECK_DOUBLED_WALL
+                   r->failed_check == PV_PIT_CHECK_DOUBLED_WALL ||
+                           r->failed_check == PV_PIT_CHECK_DOUBLED_SPARSE_WALL
                        ? "wall"
                        : (r->failed_check == PV_PIT_CHECK_DOUBLED_FLOOR ? "floor" : "rim"));
           snprintf(todo, ct, "rescan in one steady pass");

@@ -113,13 +113,21 @@ typedef enum pv_pit_check {
                                      pass slipped sideways: its ground or
                                      wall top over the other's void); limit:
                                      the most a single scan shows */
-  PV_PIT_CHECK_SHIFTED_WALL = 13  /* value: the share of the wall's points
+  PV_PIT_CHECK_SHIFTED_WALL = 13, /* value: the share of the wall's points
                                      lying 3-40 mm behind it, where their
                                      distance round the wall follows one
                                      sideways shift (a pass slipped sideways
                                      past 8 mm, its two wall tops read as a
                                      vessel's lip); limit: the most a single
                                      scan shows with such a pattern */
+  PV_PIT_CHECK_DOUBLED_SPARSE_WALL = 14 /* a wall too sparse for
+                                     DOUBLED_WALL's contrast (the smallest pits): value: the
+                                     share of its 10 deg sectors holding a
+                                     tenth of their points or more a few mm
+                                     behind the wall (a second pass shifted
+                                     sideways puts them there over most of
+                                     the wall); limit: the most a single
+                                     scan shows */
 } pv_pit_check_t;
 /* "PV_PIT_CHECK_POINTS_INSIDE", ... */
 const char *pv_pit_check_name(uint32_t check);

@@ -87,6 +87,7 @@ void expect_refused(const std::vector<pv_point_t> &pts, const char *what,
     case PV_PIT_CHECK_DOUBLED_RIM:
     case PV_PIT_CHECK_OVER_MOUTH:
     case PV_PIT_CHECK_SHIFTED_WALL:
+    case PV_PIT_CHECK_DOUBLED_SPARSE_WALL:
       if (!(o.r.check_value > o.r.check_limit)) {
         fail_msg("[%s] %s: %s figure %g not beyond %g", pv_method_name(g_method), what, pv_pit_check_name(o.r.failed_check),
                  o.r.check_value, o.r.check_limit);
