@@ -121,13 +121,13 @@ typedef enum pv_pit_check {
                                      vessel's lip); limit: the most a single
                                      scan shows with such a pattern */
   PV_PIT_CHECK_DOUBLED_SPARSE_WALL = 14 /* a wall too sparse for
-                                     DOUBLED_WALL's contrast (the smallest pits): value: the
-                                     share of its 10 deg sectors holding a
-                                     tenth of their points or more a few mm
-                                     behind the wall (a second pass shifted
-                                     sideways puts them there over most of
-                                     the wall); limit: the most a single
-                                     scan shows */
+                                     DOUBLED_WALL's contrast (the smallest
+                                     pits): value: the share of its 10 deg
+                                     sectors holding a tenth of their points
+                                     or more a few mm behind the wall (a
+                                     second pass shifted sideways puts them
+                                     there over most of the wall); limit:
+                                     the most a single scan shows */
 } pv_pit_check_t;
 /* "PV_PIT_CHECK_POINTS_INSIDE", ... */
 const char *pv_pit_check_name(uint32_t check);
