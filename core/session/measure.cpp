@@ -282,7 +282,7 @@ static pv_status_t surface_measure(pv_session *s, const levelling::Transform &t,
     out->status = framed;
     return framed;
   }
-  return measure_surface(s, t, rim_mm, lid_shift_mm(s, t, opening), out);
+  return measure_surface(s, t, rim_mm, lid_shift_mm(s, t, opening), opening.floor, out);
 }
 
 // The checks that refuse a frame as much as a pit: a floor-plane start

@@ -495,7 +495,8 @@ pv_pit_check_t check_pit(const surface::Occupancy &occ, const surface::Model &m,
 }  // namespace
 
 surface::Status build_surface_model(pv_session *s, const levelling::Transform &t, double rim_mm,
-                                    uint32_t stride, const surface::Params &p, surface::Model *m) {
+                                    uint32_t stride, const surface::Params &p,
+                                    const surface::FloorPlane &floor, surface::Model *m) {
   Levelled lv{s, &t, stride};
   const surface::PointSource src{&lv, visit_points};
   const double z_bottom = s->grid.z_of(0) - 0.5 * s->grid.layer_mm;
@@ -503,7 +504,7 @@ surface::Status build_surface_model(pv_session *s, const levelling::Transform &t
   // (surface::Workspace::point_theta; session.cpp, layout()).
   s->surf.point_theta = s->theta_cache;
   s->surf.point_theta_cap = s->theta_cache_cap;
-  return surface::build(src, z_bottom, rim_mm, p, s->surf, m);
+  return surface::build(src, z_bottom, rim_mm, p, s->surf, m, floor);
 }
 
 namespace {
@@ -542,6 +543,7 @@ surface::Params scaled_params(surface::Params p, double scale) {
 // got: the model, its integral, its section per integration step (in the
 // area-sequence arrays) and its parameters.
 struct CheckedModel {
+  surface::FloorPlane floor;  // given: the levelling's floor plane in the frame
   surface::Params p;
   surface::Model m;
   surface::Occupancy occ{};
@@ -555,7 +557,7 @@ pv_status_t build_and_check_at(pv_session *s, const levelling::Transform &t, dou
                                double scale, pv_result_t *out, CheckedModel *c) {
   c->p = scaled_params(surface_params(s->cfg), scale);
   const uint32_t stride = s->estimating ? kEstimateStride : 1u;
-  const surface::Status st = build_surface_model(s, t, rim_mm, stride, c->p, &c->m);
+  const surface::Status st = build_surface_model(s, t, rim_mm, stride, c->p, c->floor, &c->m);
   if (st == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;
   if (st != surface::Status::Ok) return PV_ERR_TOO_FEW_LAYERS;
   c->prof = surface::Profile{s->seq_z, s->seq_area, s->seq_scratch,
@@ -641,8 +643,9 @@ pv_status_t build_and_check(pv_session *s, const levelling::Transform &t, double
 }  // namespace
 
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
-                            double lid_shift, pv_result_t *out) {
+                            double lid_shift, const surface::FloorPlane &floor, pv_result_t *out) {
   CheckedModel c;
+  c.floor = floor;
   const pv_status_t st = build_and_check(s, t, rim_mm, out, &c);
   // The section per 0.5 mm step goes to the layer detail (pv_session_layers),
   // a refused scan's too, through the area-sequence arrays, which this

@@ -32,7 +32,8 @@ pv_status_t query(pv_session *s, pv_wall_grid_t *grid, float *radius_mm, uint8_t
   if (s->cfg.method != PV_METHOD_SURFACE) return PV_ERR_WRONG_STATE;
   pv_transform_t tf;
   double model_rim_mm = 0.0;  // the rim finish() built the model at; tf.rim_mm is the lid
-  const pv_status_t st = transform_query(s, &tf, &model_rim_mm);
+  surface::FloorPlane floor;
+  const pv_status_t st = transform_query(s, &tf, &model_rim_mm, &floor);
   if (st != PV_OK) return st;
   levelling::Transform t;
   for (int r = 0; r < 3; ++r) {
@@ -41,7 +42,7 @@ pv_status_t query(pv_session *s, pv_wall_grid_t *grid, float *radius_mm, uint8_t
   }
   const surface::Params p = surface_params(s->cfg);
   surface::Model m;
-  const surface::Status bs = build_surface_model(s, t, model_rim_mm, 1, p, &m);  // as finish()
+  const surface::Status bs = build_surface_model(s, t, model_rim_mm, 1, p, floor, &m);  // as finish()
   if (bs == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;
   if (bs != surface::Status::Ok) return PV_ERR_TOO_FEW_LAYERS;
   grid->axis_x_mm = m.axis.cx0;

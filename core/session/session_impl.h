@@ -221,6 +221,8 @@ struct Opening {
   // The start whose frame it is; turned_axis also where every start was
   // tried and the floor plane's sideways frame stayed.
   SurfaceStart start = SurfaceStart::floor_plane;
+  // The levelling's floor plane in this frame (floor_plane_in()).
+  surface::FloorPlane floor;
 };
 // Method surface: re-levels t on the plane of the opening: the ground ring
 // when the scan has one, else the rim plane (the wall's top edge), else the
@@ -250,18 +252,22 @@ Rim opening_rim(pv_session *s, const levelling::Transform &t, const Opening &o);
 double lid_shift_mm(const pv_session *s, const levelling::Transform &t, const Opening &o);
 // pv_session_transform()'s query (transform_query.cpp): out->rim_mm is
 // the lid (as pv_result_t.depth_mm), model_rim_mm the rim finish() built
-// its surface model at (the wall-grid query builds the same model).
-pv_status_t transform_query(pv_session *s, pv_transform_t *out, double *model_rim_mm);
+// its surface model at (the wall-grid query builds the same model), floor
+// (if not null) the levelling's floor plane in that frame.
+pv_status_t transform_query(pv_session *s, pv_transform_t *out, double *model_rim_mm,
+                            surface::FloorPlane *floor = nullptr);
 // The surface method's part of measure(): from the levelled stored points,
 // the rim and the bottom of the grid to the result (measure_surface.cpp).
-// lid_shift: the lid's height against rim_mm (lid_shift_mm()).
+// lid_shift: the lid's height against rim_mm (lid_shift_mm()); floor: the
+// levelling's floor plane in frame t (Opening::floor).
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
-                            double lid_shift, pv_result_t *out);
+                            double lid_shift, const surface::FloorPlane &floor, pv_result_t *out);
 // The surface model of the stored points levelled by t, in s->surf: the
 // build step of measure_surface(), shared with the wall-grid query so that
 // both see the same points in the same order (every stride-th of a bin).
 surface::Status build_surface_model(pv_session *s, const levelling::Transform &t, double rim_mm,
-                                    uint32_t stride, const surface::Params &p, surface::Model *m);
+                                    uint32_t stride, const surface::Params &p,
+                                    const surface::FloorPlane &floor, surface::Model *m);
 // Paper and polar: method surface's plausibility checks on the same points
 // (measure_surface.cpp); overwrites the area sequence. PV_OK, or the status
 // to refuse with.

@@ -36,7 +36,8 @@ void layer_weights(pv_session *s, const levelling::Transform &t) {
 
 }  // namespace
 
-pv_status_t transform_query(pv_session *s, pv_transform_t *out, double *model_rim_mm) {
+pv_status_t transform_query(pv_session *s, pv_transform_t *out, double *model_rim_mm,
+                            surface::FloorPlane *floor) {
   establish_transform(s);
   levelling::Transform t;
   switch (fit_sample(s, &t)) {
@@ -48,6 +49,7 @@ pv_status_t transform_query(pv_session *s, pv_transform_t *out, double *model_ri
   // before the layers are assigned, from the start the last measure() took.
   Opening opening;
   if (s->cfg.method == PV_METHOD_SURFACE) opening = level_for_surface(s, &t, SurfaceStart(s->surface_start));
+  if (floor != nullptr) *floor = opening.floor;
   layer_weights(s, t);
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) out->rotation[3 * r + c] = t.R(r, c);

@@ -43,6 +43,35 @@ void fill_floor_cell(Workspace &ws, uint32_t C, uint32_t x, uint32_t y, size_t *
   ++*k;
 }
 
+// The seeds of the flood over the cells' heights above a plane: those at
+// most floor_seed_mm above the lowest cells, or above the plane when lower
+// cells are few (the floor layers are thinned hardest, the multipath above
+// them not at all: a cell of multipath can be lower than the 2 % quantile
+// of a sparse floor's cells otherwise).
+struct Seeds {
+  FloorPlane plane;
+  float below = 0.0f;  // seeds: at most this above the plane
+  size_t cells = 0;    // how many
+};
+float above(const Geo &g, const FloorPlane &plane, uint32_t x, uint32_t y, float v) {
+  return float(double(v) - plane.at(g.fx0 + (x + 0.5) * g.cell, g.fy0 + (y + 0.5) * g.cell));
+}
+Seeds seeds_over(Workspace &ws, const Geo &g, const Params &p, const FloorPlane &plane, const CellBox &box) {
+  Seeds s{plane};
+  size_t n = 0;
+  box.each(g.C, [&](size_t i, uint32_t x, uint32_t y) {
+    if (ws.floor[i].state != kEmpty) ws.fill_val[n++] = above(g, plane, x, y, ws.floor[i].value);
+  });
+  if (n == 0) return s;
+  const size_t q = n / 50;  // 2 % quantile
+  std::nth_element(ws.fill_val, ws.fill_val + q, ws.fill_val + n);
+  s.below = std::min(ws.fill_val[q], 0.0f) + float(p.floor_seed_mm);
+  box.each(g.C, [&](size_t i, uint32_t x, uint32_t y) {
+    if (ws.floor[i].state != kEmpty && above(g, plane, x, y, ws.floor[i].value) <= s.below) ++s.cells;
+  });
+  return s;
+}
+
 }  // namespace
 
 // The floor is the surface connected to the lowest cells without a step:
@@ -50,24 +79,30 @@ void fill_floor_cell(Workspace &ws, uint32_t C, uint32_t x, uint32_t y, size_t *
 // (any descent is accepted). Multipath floating above the floor, block tops
 // and ledges are separated from it by a step: they set no floor constraint,
 // the wall grid bounds the void there.
-void flood_floor(Workspace &ws, const Geo &g, const Params &p, const CellBox &box) {
+// Lowest above which plane: where the ground tilts against the floor (a
+// pit dug into a slope) the floor is a ramp in the opening's frame, and a
+// sparse floor (a wide pit's, a point or two a cell) is no connected
+// surface from its lowest cells up: seeded by height alone, the flood took
+// the ramp's lowest 8 mm and the void below z = 0 was lost (a 0.45 m3
+// cylinder in a 4 deg slope, -0.62 % against +/- 0.40 %: tuning seed 1334
+// #786). Above the levelling's floor plane the whole ramp seeds. But the
+// floor fit can miss the floor (a shallow wide pit's, 4-13 deg off through
+// the wall's foot), and that plane crosses the floor in a strip: of z = 0
+// and the floor plane, the one under which more cells seed is the floor's
+// (#786: 6,582 cells against 82; 1335 #170, a shallow pit whose floor fit
+// is 12.8 deg off: 98 against 7,338).
+void flood_floor(Workspace &ws, const Geo &g, const Params &p, const FloorPlane &plane,
+                 const CellBox &box) {
   const uint32_t C = g.C;
-  size_t n = 0;
-  box.each(C, [&](size_t i, uint32_t, uint32_t) {
-    if (ws.floor[i].state != kEmpty) ws.fill_val[n++] = ws.floor[i].value;
-  });
-  if (n == 0) return;
-  const size_t q = n / 50;  // 2 % quantile of the cell heights
-  std::nth_element(ws.fill_val, ws.fill_val + q, ws.fill_val + n);
-  // Seeds: the lowest cells, or those at the bottom plane of the levelling
-  // when lower cells are few (the floor layers are thinned hardest, the
-  // multipath above them not at all: a cell of multipath can be lower than
-  // the 2 % quantile of a sparse floor's cells otherwise).
-  const float seed_below = std::min(ws.fill_val[q], 0.0f) + float(p.floor_seed_mm);
+  Seeds seeds = seeds_over(ws, g, p, FloorPlane{}, box);
+  if (plane.a != 0.0 || plane.b != 0.0 || plane.c != 0.0) {
+    const Seeds tilted = seeds_over(ws, g, p, plane, box);
+    if (tilted.cells > seeds.cells) seeds = tilted;
+  }
   size_t head = 0, tail = 0;
-  box.each(C, [&](size_t i, uint32_t, uint32_t) {
+  box.each(C, [&](size_t i, uint32_t x, uint32_t y) {
     FloorCell &f = ws.floor[i];
-    if (f.state != kEmpty && f.value <= seed_below) {
+    if (f.state != kEmpty && above(g, seeds.plane, x, y, f.value) <= seeds.below) {
       f.state = kFloor;
       ws.queue[tail++] = uint32_t(i);
     }

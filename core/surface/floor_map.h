@@ -45,8 +45,10 @@ struct CellBox {
 // Floor cells without points inside the pit, from their neighbours (a few
 // rounds); grows box over the cells it fills.
 void fill_floor(Workspace &ws, const Geo &g, CellBox *box);
-// The floor: the cells connected to the lowest without a step (kFloor).
-void flood_floor(Workspace &ws, const Geo &g, const Params &p, const CellBox &box);
+// The floor: the cells connected to the lowest above the floor plane
+// without a step (kFloor).
+void flood_floor(Workspace &ws, const Geo &g, const Params &p, const FloorPlane &plane,
+                 const CellBox &box);
 // Floor cells well above the median of the floor around them leave the floor.
 void drop_floor_bumps(Workspace &ws, const Geo &g, const Params &p, const CellBox &box);
 

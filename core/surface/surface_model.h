@@ -180,6 +180,16 @@ struct Axis {
   double cy(double z) const { return cy0 + cy1 * z; }
 };
 
+// The levelling's floor plane in the model's frame, z = a x + b y + c
+// (session/level_surface.cpp). The frame is levelled on the opening; where
+// the ground tilts against the pit's floor (a pit dug into a slope), the
+// floor lies on this plane, tilted, not at z = 0. The floor map floods
+// from the cells lowest above it (floor_map.cpp).
+struct FloorPlane {
+  double a = 0, b = 0, c = 0;
+  double at(double x, double y) const { return a * x + b * y + c; }
+};
+
 struct Model {
   Axis axis;
   // Most capped bins' flat top is a vessel's lip (container_lip.h): where
@@ -243,9 +253,10 @@ constexpr uint32_t kMinSectorBins = 64;
 enum class Status { Ok, TooFewPoints, NoWall };
 
 // Builds the wall grid and the floor map from src, between z_bottom_mm
-// (lowest height to consider) and rim_mm.
+// (lowest height to consider) and rim_mm; floor: the levelling's floor
+// plane in src's frame.
 Status build(const PointSource &src, double z_bottom_mm, double rim_mm, const Params &p,
-             Workspace &ws, Model *m);
+             Workspace &ws, Model *m, const FloorPlane &floor = FloorPlane{});
 
 struct Volume {
   double volume_mm3;
