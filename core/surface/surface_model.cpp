@@ -321,36 +321,6 @@ struct GridCtx {
   float *ghost_sum = nullptr, *ghost_sq = nullptr;
 };
 
-// Whether a point at height z in floor cell (x, y) lies on the floor:
-// within band of its cell's floor where the flood reached the cell; where
-// the scan left the cell empty, of a flooded cell within kFloorReachCells.
-// The floor store keeps about a point a cell of a wide pit's floor, and
-// most cells are empty: a floor that ramps through the wall grid's bins (a
-// pit dug into a slope, levelled on its ground) left bins of floor points
-// alone read as wall, the floor's crossing of the bin taken for the wall's
-// radius, inside it. Tuning seeds 1334 and 1335, with the floor plane's
-// seeds (floor_map.cpp): the 72 scans with tilted ground read -0.070 % on
-// average, at a reach of 3 cells -0.025 % (all 72 inside their
-// intervals); a 0.45 m3 cylinder in a 4 deg slope -0.24 % at no reach,
-// -0.19, -0.08, -0.03, -0.00 % at 1, 2, 3 and 5 cells. Of the seeds' other
-// 1,981 measured scans and twins it moved 904, 5 by over 0.05 points
-// nearer the truth, 1 further.
-constexpr int kFloorReachCells = 3;
-bool on_floor(const Workspace &ws, const Geo &g, uint32_t x, uint32_t y, double z, double band) {
-  const FloorCell &f = ws.floor[size_t(y) * g.C + x];
-  if (f.state == kFloor) return std::fabs(z - double(f.value)) <= band;
-  if (f.state != kEmpty) return false;
-  for (int dy = -kFloorReachCells; dy <= kFloorReachCells; ++dy) {
-    for (int dx = -kFloorReachCells; dx <= kFloorReachCells; ++dx) {
-      const int xx = int(x) + dx, yy = int(y) + dy;
-      if (xx < 0 || yy < 0 || xx >= int(g.C) || yy >= int(g.C)) continue;
-      const FloorCell &o = ws.floor[size_t(yy) * g.C + size_t(xx)];
-      if (o.state == kFloor && std::fabs(z - double(o.value)) <= band) return true;
-    }
-  }
-  return false;
-}
-
 // Pass 3: a wall bin's surface points that lie on the floor map's floor
 // (the floor's edge, not the wall: near a wall the floor is partly hidden,
 // so its edge reads millimetres inside the wall).
@@ -368,7 +338,8 @@ void floor_share_pass(void *c, const Point &q) {
   if (r < near_max(b) - b.band || beyond_lip(x->lip_cap[t], r, dx, dy, x->m->axis, q.z - x->m->rim_mm)) return;
   const double fx = g.per_cell.of(q.x - g.fx0), fy = g.per_cell.of(q.y - g.fy0);
   if (!(fx >= 0 && fy >= 0 && fx < g.C && fy < g.C)) return;
-  if (on_floor(*x->ws, g, uint32_t(fx), uint32_t(fy), q.z, x->band)) ++b.n_floor;
+  const FloorCell &f = x->ws->floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
+  if (f.state == kFloor && std::fabs(q.z - double(f.value)) <= x->band) ++b.n_floor;
 }
 
 // Passes 1 and 2 over a batch. The context is read into locals once per
