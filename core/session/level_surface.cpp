@@ -491,7 +491,7 @@ surface::FloorPlane floor_plane_in(const levelling::Transform &floor, const leve
   return surface::FloorPlane{-n.x() / n.z(), -n.y() / n.z(), (n.dot(t.t) - floor.t.z()) / n.z()};
 }
 
-// level_for_surface() but for the floor plane.
+// level_for_surface() without the floor plane (Opening::floor).
 Opening level_opening(pv_session *s, levelling::Transform *t, SurfaceStart from) {
   Opening o;
   levelling::Transform from_floor = *t;
