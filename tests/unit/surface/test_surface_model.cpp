@@ -123,9 +123,11 @@ struct Measured {
   double unseen_share;
 };
 
+// z_bottom_mm, floor: as pv::surface::build() takes them.
 Measured measure(std::vector<Point> &pts, double rim_mm,
                  const pv::surface::Params &prm = pv::surface::Params{},
-                 pv::surface::Model *model = nullptr) {
+                 pv::surface::Model *model = nullptr, double z_bottom_mm = -4.0,
+                 const pv::surface::FloorPlane &floor = pv::surface::FloorPlane{}) {
   const pv::surface::Capacity cap = pv::surface::capacity_for(prm, 400, 320);
   const size_t bytes = pv::surface::bytes_needed(cap);
   void *mem = std::aligned_alloc(64, (bytes + 63) / 64 * 64);
@@ -133,7 +135,7 @@ Measured measure(std::vector<Point> &pts, double rim_mm,
   pv::surface::make_workspace(mem, cap, &ws);
   pv::surface::Model m;
   const pv::surface::PointSource src{&pts, visit};
-  assert_int_equal(int(pv::surface::build(src, -4.0, rim_mm, prm, ws, &m)),
+  assert_int_equal(int(pv::surface::build(src, z_bottom_mm, rim_mm, prm, ws, &m, floor)),
                    int(pv::surface::Status::Ok));
   Measured r{pv::surface::integrate(ws, m, prm), 0};
   r.unseen_share = r.v.unseen_mm3 / r.v.volume_mm3;
@@ -156,11 +158,14 @@ void cylinder_volume_is_exact(void **) {
 }
 
 // A cylinder dug into a slope, levelled on its ground: the floor is a ramp
-// z = slope * x from -10.5 to +10.5 mm, and sparse (a point per 2 mm cell on
-// average, as the floor store keeps a wide pit's). The void over the ramp
-// is the cylinder's whole section times the depth at the axis.
+// z = kRampSlope * x from -10.5 to +10.5 mm, and sparse (a point per 2 mm
+// cell on average, as the floor store keeps a wide pit's). The void over
+// the ramp is the cylinder's whole section times the depth at the axis.
+const double kRampSlope = std::tan(4.0 * kPi / 180);
+constexpr double kRampRadius = 150, kRampDepth = 200;
+constexpr double kRampTruth = kPi * kRampRadius * kRampRadius * kRampDepth;
 double ramp_volume(const pv::surface::FloorPlane &given, uint64_t seed) {
-  const double R = 150, D = 200, slope = std::tan(4.0 * kPi / 180);
+  const double R = kRampRadius, D = kRampDepth, slope = kRampSlope;
   Rng rng{seed};
   std::vector<Point> v;
   for (int k = 0; k < 720; ++k) {
@@ -178,22 +183,14 @@ double ramp_volume(const pv::surface::FloorPlane &given, uint64_t seed) {
       v.push_back(Point{x, y, slope * x + 0.05 * rng.gauss()});
     }
   }
-  const pv::surface::Params prm;
-  const pv::surface::Capacity cap = pv::surface::capacity_for(prm, 400, 320);
-  void *mem = std::aligned_alloc(64, (pv::surface::bytes_needed(cap) + 63) / 64 * 64);
-  pv::surface::Workspace ws;
-  pv::surface::make_workspace(mem, cap, &ws);
-  pv::surface::Model m;
-  const pv::surface::PointSource src{&v, visit};
-  assert_int_equal(int(pv::surface::build(src, -40.0, D, prm, ws, &m, given)), int(pv::surface::Status::Ok));
-  const double vol = pv::surface::integrate(ws, m, prm).volume_mm3;
-  std::free(mem);
-  return vol;
+  // The ramp's low end lies 10.5 mm under z = 0: the grid from 40 mm under
+  // it, as the session keeps (gridding::kSurfaceBelowMm).
+  return measure(v, D, pv::surface::Params{}, nullptr, -40.0, given).v.volume_mm3;
 }
 
 void ramp_floor_floods_from_its_plane(void **) {
-  const double truth = kPi * 150 * 150 * 200;
-  const double v = ramp_volume(pv::surface::FloorPlane{std::tan(4.0 * kPi / 180), 0, 0}, 21);
+  const double truth = kRampTruth;
+  const double v = ramp_volume(pv::surface::FloorPlane{kRampSlope, 0, 0}, 21);
   print_message("ramp floor with its plane: %+.3f %%\n", 100 * (v - truth) / truth);
   expect_within(v, truth, 0.003);
 }
@@ -201,7 +198,7 @@ void ramp_floor_floods_from_its_plane(void **) {
 // Without the plane, seeded at its lowest cells, the sparse ramp's flood
 // stops short: the test above can fail.
 void ramp_floor_without_its_plane_reads_low(void **) {
-  const double truth = kPi * 150 * 150 * 200;
+  const double truth = kRampTruth;
   const double v = ramp_volume(pv::surface::FloorPlane{}, 21);
   print_message("ramp floor without: %+.3f %%\n", 100 * (v - truth) / truth);
   if (!(v < truth * (1 - 0.004))) fail_msg("%.4f %% off", 100 * (v - truth) / truth);
