@@ -541,4 +541,15 @@ measured_inside "1331/113 (long scan, multipath under a neck)"
 # ramp is floor (core/surface/floor_map.cpp, flood_floor).
 sweep_args="--family cylinder --condition ground_tilt" measure 786 1334
 measured_inside "1334/786 (0.45 m3 cylinder in a 4 deg slope)"
-echo "envelope findings: 78 cases as expected"
+# A 1.1 L rounded bowl with ground, scanned 4.5 deg off: its floor fit
+# 35-40 deg off, the ground too steep to be found from there, and the
+# support plane (which turns at most 30 deg from its start) 39.7 deg from
+# the scanner: the wall's bins across that tilt thick, refused DOUBLED_WALL
+# (0.79; the 8-pass scan 0.37, fresh seed 1339). The ground seen from the
+# scanner's axis is the opening (core/session/level_surface.cpp,
+# level_opening): +0.10 % and +0.07 %.
+keep=1 sweep_args="--family rounded_bowl --condition long" measure 555 1339
+measured_inside "1339/555 (8 passes over a rounded bowl)"
+twin=1 sweep_args="--family rounded_bowl --condition long" measure 555 1339
+measured_inside "1339/555 single pass (a rounded bowl)"
+echo "envelope findings: 80 cases as expected"
