@@ -507,6 +507,13 @@ surface::Status build_surface_model(pv_session *s, const levelling::Transform &t
   return surface::build(src, z_bottom, rim_mm, p, s->surf, m, floor);
 }
 
+surface::Params scaled_params(surface::Params p, double scale) {
+  if (scale == 1.0) return p;
+  p.cell_mm *= scale;
+  p.integrate_dr_mm *= scale;
+  return p;
+}
+
 namespace {
 
 // Pits wider than the grids: the floor map's cells and the integration's
@@ -532,12 +539,6 @@ double grid_scale_for(double wall_radius_mm, double grid_radius_mm) {
   if (!(need > 1.0)) return 1.0;
   return std::min(kMaxGridScale, std::ceil(need * 8.0) / 8.0);
 }
-surface::Params scaled_params(surface::Params p, double scale) {
-  if (scale == 1.0) return p;
-  p.cell_mm *= scale;
-  p.integrate_dr_mm *= scale;
-  return p;
-}
 
 // Method surface's model of the stored points levelled by t, as far as it
 // got: the model, its integral, its section per integration step (in the
@@ -556,6 +557,10 @@ struct CheckedModel {
 pv_status_t build_and_check_at(pv_session *s, const levelling::Transform &t, double rim_mm,
                                double scale, pv_result_t *out, CheckedModel *c) {
   c->p = scaled_params(surface_params(s->cfg), scale);
+  // The last model built is the result's (measure.cpp builds the first
+  // frame again where every frame was refused): the wall-grid query builds
+  // on its grids.
+  s->surface_scale_eighths = uint8_t(scale * 8.0 + 0.5);
   const uint32_t stride = s->estimating ? kEstimateStride : 1u;
   const surface::Status st = build_surface_model(s, t, rim_mm, stride, c->p, c->floor, &c->m);
   if (st == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;

@@ -3,8 +3,10 @@
 // report). Like transform_query.cpp it repeats measure()'s steps instead of
 // keeping the model in the session (the layout stays as it is for a query
 // tool): the transform and the rim of pv_session_transform(), then the
-// same surface::build() on the same stored points, which is deterministic,
-// so the grid is the one the volume was integrated over
+// same surface::build() on the same stored points and on the same grids
+// (scaled for a pit wider than surface_max_radius_mm: the session keeps
+// the scale, surface_scale_eighths), which is deterministic, so the grid
+// is the one the volume was integrated over
 // (test_wall_grid_query checks the coverage it gives against the result's).
 //
 // It reads only the model's public grids: wall_val and wall[].state, bin
@@ -40,7 +42,7 @@ pv_status_t query(pv_session *s, pv_wall_grid_t *grid, float *radius_mm, uint8_t
     for (int c = 0; c < 3; ++c) t.R(r, c) = tf.rotation[3 * r + c];
     t.t(r) = tf.translation_mm[r];
   }
-  const surface::Params p = surface_params(s->cfg);
+  const surface::Params p = scaled_params(surface_params(s->cfg), s->surface_scale_eighths / 8.0);
   surface::Model m;
   const surface::Status bs = build_surface_model(s, t, model_rim_mm, 1, p, floor, &m);  // as finish()
   if (bs == surface::Status::TooFewPoints) return PV_ERR_TOO_FEW_POINTS;

@@ -301,6 +301,7 @@ void reset_counters(pv_session *s) {
   s->past_map_count = 0;
   s->repeat_mode = false;
   s->surface_start = 0;
+  s->surface_scale_eighths = 8;
   s->have_transform = false;
   s->have_fit = false;
   s->next_refine_at = 0;

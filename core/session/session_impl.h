@@ -122,6 +122,10 @@ struct pv_session {
   // was refused, measure.cpp, kRetriedChecks). The transform query levels
   // the same way.
   uint8_t surface_start;
+  // The scale of the grids method surface's last model was built on, in
+  // eighths (measure_surface.cpp, grid_scale_for(): 8 on the configured
+  // grids, up to 22 for the widest pits). The wall-grid query builds on it.
+  uint8_t surface_scale_eighths;
 
   uint64_t points_in;
   uint64_t points_invalid;
@@ -268,6 +272,9 @@ pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double
 surface::Status build_surface_model(pv_session *s, const levelling::Transform &t, double rim_mm,
                                     uint32_t stride, const surface::Params &p,
                                     const surface::FloorPlane &floor, surface::Model *m);
+// The surface parameters on grids scaled by `scale` (pits wider than
+// surface_max_radius_mm): the floor cells and the integration rings.
+surface::Params scaled_params(surface::Params p, double scale);
 // Paper and polar: method surface's plausibility checks on the same points
 // (measure_surface.cpp); overwrites the area sequence. PV_OK, or the status
 // to refuse with.

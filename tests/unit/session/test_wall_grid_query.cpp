@@ -99,10 +99,7 @@ void frustum(void **) {
 
 // The coverage the result reports is the share of known bins per band
 // (seen, floor, short bridge): recomputed from the grid's states, equal.
-void coverage_matches_result(void **) {
-  pv::synth::PitSpec spec;
-  pv_result_t r;
-  const Grid g = measure(scan_points(spec, kPoints), &r);
+void expect_coverage_of_result(const Grid &g, const pv_result_t &r) {
   assert_int_equal(r.coverage_bands, PV_COVERAGE_BANDS);
   for (uint32_t b = 0; b < PV_COVERAGE_BANDS; ++b) {
     uint32_t seen = 0, total = 0;
@@ -116,7 +113,78 @@ void coverage_matches_result(void **) {
       }
     }
     const float share = total ? float(seen) / float(total) : 0.0f;
-    assert_true(std::fabs(share - r.coverage[b]) < 1e-6f);
+    if (!(std::fabs(share - r.coverage[b]) < 1e-6f)) {
+      print_error("band %u: grid %.6f, result %.6f\n", b, double(share), double(r.coverage[b]));
+      fail();
+    }
+  }
+}
+void coverage_matches_result(void **) {
+  pv::synth::PitSpec spec;
+  pv_result_t r;
+  const Grid g = measure(scan_points(spec, kPoints), &r);
+  expect_coverage_of_result(g, r);
+}
+
+// The circle through a row's seen bins about the grid's axis (least
+// squares r = R + a cos + b sin: an axis a few mm off the pit's centre
+// moves each bin's radius by up to that much, not the circle's), the
+// median of R over the rows within [lo, hi] mm.
+double median_row_radius(const Grid &g, double lo, double hi) {
+  std::vector<double> rs;
+  for (uint32_t k = 0; k < g.g.z_bins; ++k) {
+    const double z = g.z_of(k);
+    if (z < lo || z > hi) continue;
+    double s[3][3] = {}, v[3] = {};
+    uint32_t n = 0;
+    for (uint32_t t = 0; t < g.g.theta_bins; ++t) {
+      if (g.state[g.at(t, k)] != PV_WALL_SEEN) continue;
+      const double a = g.theta_deg(t) * M_PI / 180.0, f[3] = {1.0, std::cos(a), std::sin(a)};
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) s[i][j] += f[i] * f[j];
+        v[i] += f[i] * g.radius[g.at(t, k)];
+      }
+      ++n;
+    }
+    if (n < g.g.theta_bins / 2) continue;
+    // Cramer's rule for R (the first unknown).
+    const auto det = [](const double m[3][3]) {
+      return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+             m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    };
+    double m0[3][3];
+    std::memcpy(m0, s, sizeof s);
+    for (int i = 0; i < 3; ++i) m0[i][0] = v[i];
+    rs.push_back(det(m0) / det(s));
+  }
+  assert_true(rs.size() > 20);
+  std::sort(rs.begin(), rs.end());
+  return rs[rs.size() / 2];
+}
+
+// A pit wider than surface_max_radius_mm (320 mm) is measured on grids
+// scaled to it (floor cells and integration rings): the grid given is the
+// one the volume was integrated over. Built on the configured grids, whose
+// floor map stops at 320 mm, it had no floor bins at the wall's foot where
+// the measured model has them (the floor meets the wall all round).
+void wide_pit_grid_is_the_measured_one(void **) {
+  pv::synth::PitSpec spec;
+  spec.radius_bottom_mm = spec.radius_top_mm = 450.0;
+  spec.depth_mm = 200.0;
+  spec.tilt_deg = 3.0;
+  pv_result_t r;
+  const Grid g = measure(scan_points(spec, 3 * kPoints), &r);
+  expect_coverage_of_result(g, r);
+  uint32_t floor_bins = 0;
+  for (uint8_t st : g.state) floor_bins += st == PV_WALL_FLOOR;
+  if (floor_bins < g.g.theta_bins / 4) {
+    print_error("%u floor bins at the wall's foot (%u theta bins)\n", floor_bins, g.g.theta_bins);
+    fail();
+  }
+  const double radius = median_row_radius(g, 10.0, 190.0);
+  if (!(std::fabs(radius - 450.0) <= 0.5)) {
+    print_error("wall circle radius %.3f mm against 450\n", radius);
+    fail();
   }
 }
 
@@ -206,6 +274,7 @@ int main() {
       cmocka_unit_test(cylinder),
       cmocka_unit_test(frustum),
       cmocka_unit_test(coverage_matches_result),
+      cmocka_unit_test(wide_pit_grid_is_the_measured_one),
       cmocka_unit_test(unseen_sector),
       cmocka_unit_test(errors),
   };
