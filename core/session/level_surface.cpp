@@ -325,7 +325,7 @@ void bottom_to_zero(double bottom, levelling::Transform *t, Opening *o) {
 // to keep (seed 1323 #437: 5.7 deg off without it, +8.3 %): wall_above()
 // tells the two apart.
 void settle_after_turn(pv_session *s, levelling::Transform *t, Opening *o) {
-  if (level_on_ground(s, t, &o->ground_mm, true)) o->rim_mm = -1.0;
+  if (s->surface_no_ground == 0 && level_on_ground(s, t, &o->ground_mm, true)) o->rim_mm = -1.0;
   const double bottom = bottom_mm(s, *t);
   if (bottom < -kLostBottomMm) bottom_to_zero(bottom, t, o);
 }
@@ -335,7 +335,7 @@ void settle_after_turn(pv_session *s, levelling::Transform *t, Opening *o) {
 // none was found; t is then unchanged.
 bool level_on_opening(pv_session *s, levelling::Transform *t, Opening *o) {
   *o = Opening{};
-  if (level_on_ground(s, t, &o->ground_mm)) return true;
+  if (s->surface_no_ground == 0 && level_on_ground(s, t, &o->ground_mm)) return true;
   rim::SectorTops tops;
   sector_tops(s, *t, &tops);
   const rim::RimPlane rp = rim::fit_rim_plane(tops);

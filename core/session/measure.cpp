@@ -329,8 +329,34 @@ static pv_status_t surface_in_frame(pv_session *s, levelling::Transform *t, pv_r
   const levelling::Transform floor_frame = *t;
   const pv_result_t before = *out;
   s->surface_start = uint8_t(SurfaceStart::floor_plane);
+  s->surface_no_ground = 0;
   const Opening opening = level_for_surface(s, t, SurfaceStart::floor_plane);
   const pv_status_t st = surface_measure(s, *t, opening, out);
+  if (st == PV_ERR_NO_RIM && opening.found && !(opening.rim_mm > 0)) {  // levelled on a ground
+    // A "ground" under the pit's top: a protrusion's top or a groove's
+    // ledge taken for the ground of a pit without surround, the wall seen
+    // going on above it all round (build_and_check, wall_above_sectors).
+    // The opening is then looked for without grounds (the rim plane, the
+    // support plane). Tuning seeds 1334 #079 (a grooved bowl, its "ground"
+    // 17 mm under the rim) and 1335 #281 (a protrusion pit, 61 mm), fresh
+    // seed 1339 #509 (a protrusion pit scanned over an arc, 11 mm).
+    levelling::Transform next = floor_frame;
+    load_sample(s);
+    s->surface_no_ground = 1;
+    const Opening o = level_for_surface(s, &next, SurfaceStart::floor_plane);
+    if (o.found) {
+      *out = before;
+      if (surface_measure(s, next, o, out) == PV_OK) {
+        *t = next;  // surface_start stays: the floor plane's, as asked
+        return PV_OK;
+      }
+    }
+    s->surface_no_ground = 0;
+    *out = before;
+    load_sample(s);
+    *t = floor_frame;
+    return surface_measure(s, *t, level_for_surface(s, t, SurfaceStart::floor_plane), out);
+  }
   if (st == PV_OK || !frame_refused(*out)) return st;
   const Eigen::Vector3d first_up = t->R.row(2);
   bool measured_again = false;

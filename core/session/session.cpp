@@ -302,6 +302,7 @@ void reset_counters(pv_session *s) {
   s->repeat_mode = false;
   s->surface_start = 0;
   s->surface_scale_eighths = 8;
+  s->surface_no_ground = 0;
   s->have_transform = false;
   s->have_fit = false;
   s->next_refine_at = 0;

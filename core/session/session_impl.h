@@ -126,6 +126,10 @@ struct pv_session {
   // eighths (measure_surface.cpp, grid_scale_for(): 8 on the configured
   // grids, up to 22 for the widest pits). The wall-grid query builds on it.
   uint8_t surface_scale_eighths;
+  // Nonzero: the last measure() levelled without grounds (level_surface.cpp,
+  // level_on_opening; measure.cpp, a "ground" under the pit's top). The
+  // transform query levels the same way.
+  uint8_t surface_no_ground;
 
   uint64_t points_in;
   uint64_t points_invalid;
