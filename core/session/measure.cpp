@@ -325,6 +325,49 @@ constexpr double kMinFrameTurnCos = 0.86602540378443865;  // cos 30 deg
 // model, the layer detail) holds the frame whose result is given: the
 // first is measured again then. The model overlays the levelling's sample
 // (session.cpp, layout()): it is loaded again before each levelling.
+// A frame levelled on a ground and refused PV_ERR_NO_RIM for the wall
+// going on above it all round (build_and_check, wall_above_sectors): a
+// "ground" under the pit's top, a protrusion's top or a groove's ledge
+// taken for the ground of a pit without surround. The opening is then
+// looked for from the same start without grounds (the rim plane, the
+// support plane). Tuning seeds 1334 #079 (a grooved bowl, its "ground"
+// 17 mm under the rim) and 1335 #281 (a protrusion pit, 61 mm), fresh
+// seed 1339 #509 (a protrusion pit scanned over an arc, 11 mm).
+static bool ground_under_top(pv_status_t st, const Opening &o) {
+  return st == PV_ERR_NO_RIM && o.found && !(o.rim_mm > 0);
+}
+// Levels from `from` without grounds and measures there: true with *t the
+// frame where that passes every check; else false, the grounds allowed
+// again (and *out to be reset by the caller).
+static bool measured_without_grounds(pv_session *s, const levelling::Transform &floor_frame, SurfaceStart from,
+                                     const pv_result_t &before, levelling::Transform *t, pv_result_t *out) {
+  levelling::Transform next = floor_frame;
+  load_sample(s);
+  s->surface_no_ground = 1;
+  const Opening o = level_for_surface(s, &next, from);
+  if (o.found) {
+    *out = before;
+    if (surface_measure(s, next, o, out) == PV_OK) {
+      *t = next;
+      return true;
+    }
+  }
+  s->surface_no_ground = 0;
+  return false;
+}
+
+// Method surface from the floor-plane start, and from the later starts
+// (level_surface.cpp: the scanner's axis, then that axis turned) where the
+// frame was refused (kRetriedChecks) and a later start gives another
+// (kMinFrameTurnCos); a first frame from the turned axis (grounds first)
+// is retried there (the plane most starts agree on). A frame on a ground
+// under the pit's top is levelled again from its start without grounds
+// (ground_under_top). Each frame is held to the same checks; where all
+// are refused, the first frame's refusal stands. The session's scratch
+// (the model, the layer detail) holds the frame whose result is given:
+// the first is measured again then. The model overlays the levelling's
+// sample (session.cpp, layout()): it is loaded again before each
+// levelling.
 static pv_status_t surface_in_frame(pv_session *s, levelling::Transform *t, pv_result_t *out) {
   const levelling::Transform floor_frame = *t;
   const pv_result_t before = *out;
@@ -332,34 +375,14 @@ static pv_status_t surface_in_frame(pv_session *s, levelling::Transform *t, pv_r
   s->surface_no_ground = 0;
   const Opening opening = level_for_surface(s, t, SurfaceStart::floor_plane);
   const pv_status_t st = surface_measure(s, *t, opening, out);
-  if (st == PV_ERR_NO_RIM && opening.found && !(opening.rim_mm > 0)) {  // levelled on a ground
-    // A "ground" under the pit's top: a protrusion's top or a groove's
-    // ledge taken for the ground of a pit without surround, the wall seen
-    // going on above it all round (build_and_check, wall_above_sectors).
-    // The opening is then looked for without grounds (the rim plane, the
-    // support plane). Tuning seeds 1334 #079 (a grooved bowl, its "ground"
-    // 17 mm under the rim) and 1335 #281 (a protrusion pit, 61 mm), fresh
-    // seed 1339 #509 (a protrusion pit scanned over an arc, 11 mm).
-    levelling::Transform next = floor_frame;
-    load_sample(s);
-    s->surface_no_ground = 1;
-    const Opening o = level_for_surface(s, &next, SurfaceStart::floor_plane);
-    if (o.found) {
-      *out = before;
-      if (surface_measure(s, next, o, out) == PV_OK) {
-        *t = next;  // surface_start stays: the floor plane's, as asked
-        return PV_OK;
-      }
-    }
-    s->surface_no_ground = 0;
-    *out = before;
-    load_sample(s);
-    *t = floor_frame;
-    return surface_measure(s, *t, level_for_surface(s, t, SurfaceStart::floor_plane), out);
-  }
-  if (st == PV_OK || !frame_refused(*out)) return st;
-  const Eigen::Vector3d first_up = t->R.row(2);
   bool measured_again = false;
+  if (ground_under_top(st, opening)) {
+    if (measured_without_grounds(s, floor_frame, SurfaceStart::floor_plane, before, t, out)) return PV_OK;
+    measured_again = true;
+  } else if (st == PV_OK || !frame_refused(*out)) {
+    return st;
+  }
+  const Eigen::Vector3d first_up = t->R.row(2);
   const int turned = int(SurfaceStart::turned_axis);
   for (int from = std::min(int(opening.start) + 1, turned); from <= turned; ++from) {
     levelling::Transform next = floor_frame;
@@ -371,7 +394,9 @@ static pv_status_t surface_in_frame(pv_session *s, levelling::Transform *t, pv_r
     if (Eigen::Vector3d(next.R.row(2)).dot(first_up) > kMinFrameTurnCos) continue;
     *out = before;
     measured_again = true;
-    if (surface_measure(s, next, o, out) == PV_OK) {
+    const pv_status_t again = surface_measure(s, next, o, out);
+    if (again == PV_OK ||
+        (ground_under_top(again, o) && measured_without_grounds(s, floor_frame, SurfaceStart(asked), before, &next, out))) {
       *t = next;
       s->surface_start = asked;
       return PV_OK;

@@ -562,4 +562,10 @@ sweep_args="--family bowl --condition grooves" measure 79 1334
 measured_inside "1334/079 (a grooved bowl without surround)"
 sweep_args="--family protrusions --condition arc" measure 509 1339
 measured_inside "1339/509 (a protrusion pit scanned over an arc)"
-echo "envelope findings: 82 cases as expected"
+# The same from the scanner's axis: a 1.2 L hand-dug pit without surround
+# held 24 deg off, its floor fit upside down, the axis's "ground" 13 mm
+# over its bottom, refused PV_ERR_NO_RIM (fresh seed 1340, the table's);
+# from the axis without grounds, on its rim plane: -0.01 %.
+sweep_args="--family hand_dug --condition nominal" measure 803 1340
+measured_inside "1340/803 (a hand-dug pit held 24 deg off)"
+echo "envelope findings: 83 cases as expected"
