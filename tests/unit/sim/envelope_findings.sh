@@ -325,8 +325,12 @@ sweep_args="--family rounded_bowl --condition arc" measure 203 1312
 # +/- 1.0 % (fresh seed 1314, looked at for this); a 0.55 m3 cylinder
 # scanned 59 deg off, its sparse ground unfound and the rim plane 29 mm
 # under it: -3.8 % PV_OK against +/- 0.3 %. No rim, not a wrong volume.
+# The bowl was levelled on its groove's ledge as a ground: refused there,
+# it is levelled again without grounds (core/session/measure.cpp,
+# ground_under_top), on its rim plane, and measures -1.0 % against
+# +/- 1.25 %. The cylinder's frame is no ground: still refused.
 sweep_args="--family rounded_bowl --condition grooves" measure 68 1314
-[ "$status" = PV_ERR_NO_RIM ] || fail "1314/068 (rim under the wall's top): $status $volume +/- $interval cm3 against $exact"
+measured_inside "1314/068 (rim under the wall's top, levelled again without grounds)"
 sweep_args="--family cylinder --condition tilted" measure 64 1314
 [ "$status" = PV_ERR_NO_RIM ] || fail "1314/064 (rim plane under the ground): $status $volume +/- $interval cm3 against $exact"
 # Protrusion pits whose blocks' sides and tops put points behind the band
