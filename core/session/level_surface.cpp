@@ -393,10 +393,6 @@ constexpr size_t kStarts = std::size(kTurnCosSin) * std::size(kDirCosSin);
 constexpr double kAgreeCos = 0.99862953475457387;  // cos 3 deg
 constexpr int kMinVotes = 2;
 
-// Levelled on the ground (level_on_ground, also after a turn), not on a
-// rim or support plane, which set the rim height.
-bool on_ground(const Opening &o) { return !(o.rim_mm > 0); }
-
 // Whether two frames' ups agree (the third row of R: the up in the
 // scanner's frame).
 bool agree(const levelling::Transform &a, const levelling::Transform &b) {
@@ -501,13 +497,15 @@ Eigen::Vector3d scanner_up(const pv_session *s, const levelling::Transform &t, b
   return (keep || scanner_z.z() >= 0) ? scanner_z : Eigen::Vector3d(-scanner_z);
 }
 
-// Levels t on the ground seen from the scanner's axis (level_on_opening
-// from there, and only a ground): the opening, or not found (t unchanged).
-Opening ground_from_axis(pv_session *s, const Eigen::Vector3d &up, levelling::Transform *t) {
+// The opening seen from the scanner's axis `up` (level_on_opening from
+// there; refused where it faces sideways and `no_sideways`), its bottom
+// set at z = 0: the opening with *t levelled on it, or not found (*t
+// unchanged).
+Opening opening_from_axis(pv_session *s, const Eigen::Vector3d &up, bool no_sideways, levelling::Transform *t) {
   levelling::Transform upright = *t;
   rotate_onto_z(up, &upright);
   Opening o;
-  if (!level_on_opening(s, &upright, &o) || !on_ground(o) || faces_sideways(upright)) return Opening{};
+  if (!level_on_opening(s, &upright, &o) || (no_sideways && faces_sideways(upright))) return Opening{};
   bottom_to_zero(bottom_mm(s, upright), &upright, &o);
   *t = upright;
   o.found = true;
@@ -540,8 +538,8 @@ Opening level_opening(pv_session *s, levelling::Transform *t, SurfaceStart from)
     // seed 1341 #672's single pass: 10 mm high, +0.05 -> +0.81 %).
     if (!on_ground(o) && !o.rim_plane) {
       levelling::Transform from_axis = *t;
-      const Opening ground = ground_from_axis(s, scanner_up(s, *t, floor_found), &from_axis);
-      if (ground.found && !agree(from_axis, from_floor)) {
+      const Opening ground = opening_from_axis(s, scanner_up(s, *t, floor_found), true, &from_axis);
+      if (ground.found && on_ground(ground) && !agree(from_axis, from_floor)) {
         *t = from_axis;
         return ground;
       }
@@ -556,12 +554,10 @@ Opening level_opening(pv_session *s, levelling::Transform *t, SurfaceStart from)
   // flat (a rounded bowl: 20-40 deg). A handheld scan is held roughly
   // upright, so the scanner's own axis is the second start (scanner_up()).
   const levelling::Transform start = *t;
-  levelling::Transform upright = *t;
   const Eigen::Vector3d up = scanner_up(s, *t, floor_found);
-  rotate_onto_z(up, &upright);
-  Opening from_upright;
-  if (from == SurfaceStart::turned_axis || !level_on_opening(s, &upright, &from_upright) ||
-      (floor_found && faces_sideways(upright))) {
+  const Opening from_upright =
+      from == SurfaceStart::turned_axis ? Opening{} : opening_from_axis(s, up, floor_found, t);
+  if (!from_upright.found) {
     Opening turned = level_from_turned_axis(s, start, up, from == SurfaceStart::floor_plane, t);
     turned.start = SurfaceStart::turned_axis;
     if (turned.found) return turned;
@@ -572,10 +568,6 @@ Opening level_opening(pv_session *s, levelling::Transform *t, SurfaceStart from)
     o.start = SurfaceStart::turned_axis;  // every start tried
     return o;
   }
-  bottom_to_zero(bottom_mm(s, upright), &upright, &from_upright);
-  *t = upright;
-  from_upright.found = true;
-  from_upright.start = SurfaceStart::axis;
   return from_upright;
 }
 

@@ -315,16 +315,6 @@ static bool frame_refused(const pv_result_t &r) {
 // from it -1.5 % outside its interval (1314 #021).
 constexpr double kMinFrameTurnCos = 0.86602540378443865;  // cos 30 deg
 
-// Method surface from the floor-plane start, and from the later starts
-// (level_surface.cpp: the scanner's axis, then that axis turned) where the
-// frame was refused (kRetriedChecks) and a later start gives another
-// (kMinFrameTurnCos); a first frame from the turned axis (grounds first)
-// is retried there (the plane most starts agree on). Each frame is held
-// to the same checks; where all are refused, the first frame's refusal
-// stands. The session's scratch (the
-// model, the layer detail) holds the frame whose result is given: the
-// first is measured again then. The model overlays the levelling's sample
-// (session.cpp, layout()): it is loaded again before each levelling.
 // A frame levelled on a ground and refused PV_ERR_NO_RIM for the wall
 // going on above it all round (build_and_check, wall_above_sectors): a
 // "ground" under the pit's top, a protrusion's top or a groove's ledge
@@ -334,7 +324,7 @@ constexpr double kMinFrameTurnCos = 0.86602540378443865;  // cos 30 deg
 // 17 mm under the rim) and 1335 #281 (a protrusion pit, 61 mm), fresh
 // seed 1339 #509 (a protrusion pit scanned over an arc, 11 mm).
 static bool ground_under_top(pv_status_t st, const Opening &o) {
-  return st == PV_ERR_NO_RIM && o.found && !(o.rim_mm > 0);
+  return st == PV_ERR_NO_RIM && o.found && on_ground(o);
 }
 // Levels from `from` without grounds and measures there: true with *t the
 // frame where that passes every check; else false, the grounds allowed

@@ -232,6 +232,9 @@ struct Opening {
   // The levelling's floor plane in this frame (floor_plane_in()).
   surface::FloorPlane floor;
 };
+// Levelled on the ground (level_on_ground, also after a turn), not on a
+// rim or support plane, which set the rim height.
+inline bool on_ground(const Opening &o) { return !(o.rim_mm > 0); }
 // Method surface: re-levels t on the plane of the opening: the ground ring
 // when the scan has one, else the rim plane (the wall's top edge), else the
 // support plane, from the floor-plane frame, then from the scanner-upright
