@@ -1855,36 +1855,33 @@ struct FloorRise {
   int64_t last = INT64_MAX;  // the ring of the last floor seen (none: never)
   double slope = 0.0;
 };
+// The floor map's cell under ring k of the ray along (c, s), or none
+// outside the map.
+const FloorCell *ray_cell(const Workspace &ws, const Model &m, const Geo &g, double c, double s, double dr,
+                          uint32_t k) {
+  const double r = (k + 0.5) * dr;
+  const double fx = (m.axis.cx(0) + r * c - g.fx0) / g.cell;
+  const double fy = (m.axis.cy(0) + r * s - g.fy0) / g.cell;
+  if (!(fx >= 0 && fy >= 0 && fx < g.C && fy < g.C)) return nullptr;
+  return &ws.floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
+}
 FloorRise floor_rise_at_end(const Workspace &ws, const Model &m, const Geo &g, double c, double s,
                             double dr, uint32_t K) {
-  FloorRise out;
-  int64_t last = -1;
-  float h_last = 0.0f;
-  const auto floor_at = [&](uint32_t k, float *h) {
-    const double r = (k + 0.5) * dr;
-    const double fx = (m.axis.cx(0) + r * c - g.fx0) / g.cell;
-    const double fy = (m.axis.cy(0) + r * s - g.fy0) / g.cell;
-    if (!(fx >= 0 && fy >= 0 && fx < g.C && fy < g.C)) return false;
-    const FloorCell &f = ws.floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
-    if (f.state != kFloor) return false;
-    *h = f.value;
-    return true;
+  const auto floor_at = [&](int64_t k) {
+    const FloorCell *f = ray_cell(ws, m, g, c, s, dr, uint32_t(k));
+    return f != nullptr && f->state == kFloor ? f : nullptr;
   };
-  for (uint32_t k = 0; k < K; ++k) {
-    float h;
-    if (floor_at(k, &h)) {
-      last = k;
-      h_last = h;
-    }
-  }
+  FloorRise out;
+  int64_t last = int64_t(K) - 1;
+  while (last >= 0 && floor_at(last) == nullptr) --last;
   if (last < 0) return out;
   out.last = last;
+  const float h_last = floor_at(last)->value;
   const auto run = int64_t(kRiseRunMm / dr);
   for (int64_t k = std::max<int64_t>(0, last - run); k + 1 < last; ++k) {
-    float h;
-    if (!floor_at(uint32_t(k), &h)) continue;
-    const double slope = double(h_last - h) / (double(last - k) * dr);
-    out.slope = std::clamp(slope, 0.0, kMaxRise);
+    const FloorCell *f = floor_at(k);
+    if (f == nullptr) continue;
+    out.slope = std::clamp(double(h_last - f->value) / (double(last - k) * dr), 0.0, kMaxRise);
     break;
   }
   return out;
@@ -1895,6 +1892,7 @@ FloorHoles prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
   const uint32_t K = ws.cap.ray_steps;
   const double dr = p.integrate_dr_mm, dth = 2 * kPi / g.T;
   FloorHoles holes;
+  const auto reach = int64_t(kRiseReachMm / dr);  // rings the floor rises on past its last
   for (uint32_t t = 0; t < g.T; ++t) {
     const double c = ws.theta->centre_cos(t), s = ws.theta->centre_sin(t);
     float *const fl = ws.ray_floor + size_t(t) * K;
@@ -1907,13 +1905,10 @@ FloorHoles prepare_rays(const Workspace &ws, const Model &m, const Params &p) {
     int64_t seen_at = -1;  // the ring of the last floor seen on this ray
     const FloorRise rise = floor_rise_at_end(ws, m, g, c, s, dr, K);
     for (uint32_t k = 0; k < K; ++k) {
-      const double r = (k + 0.5) * dr;
-      const double fx = (m.axis.cx(0) + r * c - g.fx0) / g.cell;
-      const double fy = (m.axis.cy(0) + r * s - g.fy0) / g.cell;
-      const double beyond = double(std::min<int64_t>(int64_t(k) - rise.last, int64_t(kRiseReachMm / dr))) * dr;
-      float h = int64_t(k) > rise.last ? last + float(rise.slope * beyond) : last;
-      if (fx >= 0 && fy >= 0 && fx < g.C && fy < g.C) {
-        const FloorCell &f = ws.floor[size_t(uint32_t(fy)) * g.C + uint32_t(fx)];
+      float h = last;
+      if (int64_t(k) > rise.last) h += float(rise.slope * (double(std::min(int64_t(k) - rise.last, reach)) * dr));
+      if (const FloorCell *cell = ray_cell(ws, m, g, c, s, dr, k)) {
+        const FloorCell &f = *cell;
         if (f.state == kSolid) {
           // A solid bounds the void over its own cells only: the floor
           // around it goes on at the height carried to it, and a hole
