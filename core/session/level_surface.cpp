@@ -370,6 +370,7 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, Opening *o) {
   rotate_onto_z(rp.normal, t);
   o->rim_mm = rp.d;
   o->rim_plane = true;
+  o->partial = true;
   return true;
 }
 
@@ -390,7 +391,6 @@ constexpr double kTurnCosSin[][2] = {{0.86602540378443865, 0.5}, {0.642787609686
 constexpr double kR = 0.70710678118654752;
 constexpr double kDirCosSin[][2] = {{1, 0}, {kR, kR}, {0, 1}, {-kR, kR}, {-1, 0}, {-kR, -kR}, {0, -1}, {kR, -kR}};
 constexpr size_t kStarts = std::size(kTurnCosSin) * std::size(kDirCosSin);
-constexpr double kAgreeCos = 0.99862953475457387;  // cos 3 deg
 constexpr int kMinVotes = 2;
 
 // Whether two frames' ups agree (the third row of R: the up in the

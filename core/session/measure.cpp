@@ -277,12 +277,13 @@ static pv_status_t rim_in_frame(pv_session *s, const levelling::Transform &t, co
 static pv_status_t surface_measure(pv_session *s, const levelling::Transform &t, const Opening &opening,
                                    pv_result_t *out) {
   double rim_mm = 0.0;
+  s->weak_frame_leaned = false;
   const pv_status_t framed = rim_in_frame(s, t, opening, out, &rim_mm);
   if (framed != PV_OK) {
     out->status = framed;
     return framed;
   }
-  return measure_surface(s, t, rim_mm, lid_shift_mm(s, t, opening), opening.floor, out);
+  return measure_surface(s, t, rim_mm, lid_shift_mm(s, t, opening), opening.floor, weak_opening(opening), out);
 }
 
 // The checks that refuse a frame as much as a pit: a floor-plane start
@@ -369,10 +370,15 @@ static pv_status_t surface_in_frame(pv_session *s, levelling::Transform *t, pv_r
   if (ground_under_top(st, opening)) {
     if (measured_without_grounds(s, floor_frame, SurfaceStart::floor_plane, before, t, out)) return PV_OK;
     measured_again = true;
-  } else if (st == PV_OK || !frame_refused(*out)) {
+  } else if (st == PV_OK || !(frame_refused(*out) || s->weak_frame_leaned)) {
     return st;
   }
   const Eigen::Vector3d first_up = t->R.row(2);
+  // A frame refused for its lean is wrong itself: any other frame is
+  // worth measuring. Fresh seeds 1343 #697 and 1344 #785 (rounded bowls,
+  // their support planes 27 and 9 deg off): the turned axis found the
+  // ground and the lip, +0.08 % and +0.01 %.
+  const double same_frame_cos = s->weak_frame_leaned ? kAgreeCos : kMinFrameTurnCos;
   const int turned = int(SurfaceStart::turned_axis);
   for (int from = std::min(int(opening.start) + 1, turned); from <= turned; ++from) {
     levelling::Transform next = floor_frame;
@@ -381,7 +387,7 @@ static pv_status_t surface_in_frame(pv_session *s, levelling::Transform *t, pv_r
     if (!o.found) break;  // nor from any later start (level_for_surface goes on to them)
     const uint8_t asked = uint8_t(from);
     from = int(o.start);  // the starts before it found nothing
-    if (Eigen::Vector3d(next.R.row(2)).dot(first_up) > kMinFrameTurnCos) continue;
+    if (Eigen::Vector3d(next.R.row(2)).dot(first_up) > same_frame_cos) continue;
     *out = before;
     measured_again = true;
     const pv_status_t again = surface_measure(s, next, o, out);

@@ -130,6 +130,10 @@ struct pv_session {
   // level_on_opening; measure.cpp, a "ground" under the pit's top). The
   // transform query levels the same way.
   uint8_t surface_no_ground;
+  // The last frame method surface measured was refused for its weak
+  // opening's lean (measure_surface.cpp, kMaxWeakFrameLean): the frame is
+  // wrong, and measure.cpp tries the later starts.
+  bool weak_frame_leaned;
 
   uint64_t points_in;
   uint64_t points_invalid;
@@ -223,6 +227,9 @@ struct Opening {
   // rim_mm was set by the rim plane (not the support plane): the lid is
   // read from the points about it (lid_shift_mm()).
   bool rim_plane = false;
+  // rim_mm was set by a rim plane through part of the sectors (the last
+  // resort of level_on_opening()).
+  bool partial = false;
   // Levelled on the ground: its plane's height, the rim where the ground's
   // peak is not found (sparse ground under strays); else negative.
   double ground_mm = -1.0;
@@ -235,6 +242,14 @@ struct Opening {
 // Levelled on the ground (level_on_ground, also after a turn), not on a
 // rim or support plane, which set the rim height.
 inline bool on_ground(const Opening &o) { return !(o.rim_mm > 0); }
+// Two frames whose ups lie within 3 deg of each other are one frame
+// (level_surface.cpp, the turned starts' votes; measure.cpp, the retries).
+constexpr double kAgreeCos = 0.99862953475457387;  // cos 3 deg
+// Levelled on a plane that touches the opening on one side only as well
+// as all round: the support plane, or a rim plane through part of the
+// sectors. A frame from either is held to the pit's own axis
+// (measure_surface.cpp, kMaxWeakFrameLean).
+inline bool weak_opening(const Opening &o) { return !on_ground(o) && (!o.rim_plane || o.partial); }
 // Method surface: re-levels t on the plane of the opening: the ground ring
 // when the scan has one, else the rim plane (the wall's top edge), else the
 // support plane, from the floor-plane frame, then from the scanner-upright
@@ -270,9 +285,11 @@ pv_status_t transform_query(pv_session *s, pv_transform_t *out, double *model_ri
 // The surface method's part of measure(): from the levelled stored points,
 // the rim and the bottom of the grid to the result (measure_surface.cpp).
 // lid_shift: the lid's height against rim_mm (lid_shift_mm()); floor: the
-// levelling's floor plane in frame t (Opening::floor).
+// levelling's floor plane in frame t (Opening::floor); weak: the frame is
+// levelled on a weak opening (weak_opening()).
 pv_status_t measure_surface(pv_session *s, const levelling::Transform &t, double rim_mm,
-                            double lid_shift, const surface::FloorPlane &floor, pv_result_t *out);
+                            double lid_shift, const surface::FloorPlane &floor, bool weak,
+                            pv_result_t *out);
 // The surface model of the stored points levelled by t, in s->surf: the
 // build step of measure_surface(), shared with the wall-grid query so that
 // both see the same points in the same order (every stride-th of a bin).
