@@ -366,11 +366,14 @@ static pv_status_t surface_in_frame(pv_session *s, levelling::Transform *t, pv_r
   s->surface_no_ground = 0;
   const Opening opening = level_for_surface(s, t, SurfaceStart::floor_plane);
   const pv_status_t st = surface_measure(s, *t, opening, out);
+  // The first frame's (the levelling without grounds below measures
+  // another frame and sets the flag anew).
+  const bool leaned = s->weak_frame_leaned;
   bool measured_again = false;
   if (ground_under_top(st, opening)) {
     if (measured_without_grounds(s, floor_frame, SurfaceStart::floor_plane, before, t, out)) return PV_OK;
     measured_again = true;
-  } else if (st == PV_OK || !(frame_refused(*out) || s->weak_frame_leaned)) {
+  } else if (st == PV_OK || !(frame_refused(*out) || leaned)) {
     return st;
   }
   const Eigen::Vector3d first_up = t->R.row(2);
@@ -378,7 +381,7 @@ static pv_status_t surface_in_frame(pv_session *s, levelling::Transform *t, pv_r
   // worth measuring. Fresh seeds 1343 #697 and 1344 #785 (rounded bowls,
   // their support planes 27 and 9 deg off): the turned axis found the
   // ground and the lip, +0.08 % and +0.01 %.
-  const double same_frame_cos = s->weak_frame_leaned ? kAgreeCos : kMinFrameTurnCos;
+  const double same_frame_cos = leaned ? kAgreeCos : kMinFrameTurnCos;
   const int turned = int(SurfaceStart::turned_axis);
   for (int from = std::min(int(opening.start) + 1, turned); from <= turned; ++from) {
     levelling::Transform next = floor_frame;
