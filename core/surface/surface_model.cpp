@@ -1068,8 +1068,10 @@ void count_wall_ghosts(const Workspace &ws, const Geo &g, bool coarse, Model *m)
   }
   double behind = sector_contrast(dense, ghost, g.T);
   m->sparse_ghost_share = -1;
+  m->ghost_pooled = false;
   if (behind < 0 && !coarse && pooled_arc_fits(ws, g)) {
     behind = pooled_ghost_contrast(ws, g);
+    m->ghost_pooled = behind >= 0;
     if (behind < 0) m->sparse_ghost_share = sparse_ghost_share(ws, g);
   }
   const double spread = sector_contrast(dense, thick, g.T, kThickErrorSigmas);

@@ -196,6 +196,9 @@ struct Model {
   // a bin reads the vessel's outer wall, the lip lies inside the wall's top
   // (Occupancy::over_mouth is not counted).
   bool vessel_lip;
+  // ghost_contrast is the pooled blocks' (surface_model.cpp,
+  // pooled_ghost_contrast): no direction had the dense bins for the bins'.
+  bool ghost_pooled;
   double z0_mm;           // bottom of the wall grid
   uint32_t z_bins;        // used (to the rim)
   double rim_mm;

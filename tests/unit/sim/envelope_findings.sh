@@ -614,4 +614,11 @@ measured_inside "1343/697 (a support plane 27 deg off a rounded bowl)"
 # (core/session/level_surface.cpp, rim_plane_over_support): -0.21 %.
 sweep_args="--family shallow_wide --condition nominal" measure 307 1334
 measured_inside "1334/307 (a support plane on part of a container's lip)"
-echo "envelope findings: 90 cases as expected"
+# A 1.5 L deep pit with ground whose second pass slipped 9.7 mm sideways:
+# each copy's wall mostly beyond the other's ghost window, the pooled
+# blocks' contrast 0.176 under the bins' 0.2: +3.6 % against +/- 3.4 %
+# with PV_OK (fresh seed 1346, the table's). The blocks' own limit, 0.1
+# (core/session/measure_surface.cpp, kMaxPooledGhostContrast): refused.
+sweep_args="--family deep_narrow --condition slip_lateral" measure 437 1346
+refused_by DOUBLED_WALL "1346/437 (a small pit slipped 9.7 mm sideways)"
+echo "envelope findings: 91 cases as expected"
