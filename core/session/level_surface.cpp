@@ -330,6 +330,15 @@ void settle_after_turn(pv_session *s, levelling::Transform *t, Opening *o) {
   if (bottom < -kLostBottomMm) bottom_to_zero(bottom, t, o);
 }
 
+// Levels t on the rim plane rp (found in t): its height after the
+// rotation is rp.d (the rotated plane is z = d: its normal is +Z, its
+// offset unchanged by a rotation about the origin).
+void on_rim_plane(const rim::RimPlane &rp, levelling::Transform *t, Opening *o) {
+  rotate_onto_z(rp.normal, t);
+  o->rim_mm = rp.d;
+  o->rim_plane = true;
+}
+
 // The support plane rests on the highest points. On a lip the levelling's
 // sample holds a few dozen points of, seen from a frame far from level, it
 // can rest on part of the lip and a stray above it, and its refinement
@@ -344,10 +353,7 @@ void rim_plane_over_support(pv_session *s, levelling::Transform *t, Opening *o) 
   rim::SectorTops tops;
   sector_tops(s, *t, &tops);
   const rim::RimPlane rp = rim::fit_rim_plane(tops);
-  if (!rp.found || rp.steep || !(rp.normal.z() > kAgreeCos)) return;
-  rotate_onto_z(rp.normal, t);
-  o->rim_mm = rp.d;
-  o->rim_plane = true;
+  if (rp.found && !rp.steep && rp.normal.z() > kAgreeCos) on_rim_plane(rp, t, o);
 }
 
 // The ground (strict), else the rim plane, else the support plane, else a
@@ -360,12 +366,7 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, Opening *o) {
   sector_tops(s, *t, &tops);
   const rim::RimPlane rp = rim::fit_rim_plane(tops);
   if (rp.found) {
-    rotate_onto_z(rp.normal, t);
-    // The rim plane's height after the rotation: the rotated plane is
-    // z = d (its normal is +Z, its offset unchanged by a rotation about the
-    // origin).
-    o->rim_mm = rp.d;
-    o->rim_plane = true;
+    on_rim_plane(rp, t, o);
     if (rp.steep) settle_after_turn(s, t, o);
     return true;
   }
@@ -388,9 +389,7 @@ bool level_on_opening(pv_session *s, levelling::Transform *t, Opening *o) {
   // support plane measures read differently, 9 of them further from the
   // truth, up to 0.15 % further).
   if (!rp.partial) return false;
-  rotate_onto_z(rp.normal, t);
-  o->rim_mm = rp.d;
-  o->rim_plane = true;
+  on_rim_plane(rp, t, o);
   o->partial = true;
   return true;
 }

@@ -45,10 +45,11 @@ constexpr double kMaxSparseGhostShare = 1.0 / 3.0;
 // a small pit, 4 mm x 4 deg blocks), a block holds its bin's points and
 // three neighbours', and a single scan's blocks rarely reach the ghost
 // share: the 98 real pits of tuning seeds 1334 and 1335 with under 60
-// dense bins (the pooled ones among them) read 0.047 at most. A second pass slipped 9.7 mm sideways on a 1.5 L deep
-// pit (each copy's wall mostly beyond the other's ghost window) read
-// 0.176, under the bins' limit: +3.6 % against +/- 3.4 % with PV_OK
-// (fresh seed 1346 #437, looked at for this).
+// dense bins (the pooled ones among them) read 0.047 at most. A second
+// pass slipped 9.7 mm sideways on a 1.5 L deep pit (each copy's wall
+// mostly beyond the other's ghost window) read 0.176, under the bins'
+// limit: +3.6 % against +/- 3.4 % with PV_OK (fresh seed 1346 #437,
+// looked at for this).
 constexpr double kMaxPooledGhostContrast = 0.1;
 // Floor: the share of the floor's points a few mm above its surface
 // (away from the wall's foot), from enough points, over the level cells

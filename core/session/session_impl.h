@@ -246,8 +246,9 @@ inline bool on_ground(const Opening &o) { return !(o.rim_mm > 0); }
 // (level_surface.cpp, the turned starts' votes; measure.cpp, the retries).
 constexpr double kAgreeCos = 0.99862953475457387;  // cos 3 deg
 // Levelled on a plane that may touch the opening on one side only: the
-// support plane, or a rim plane through part of the sectors. A frame from either is held to the pit's own axis
-// (measure_surface.cpp, kMaxWeakFrameLean).
+// support plane, or a rim plane through part of the sectors. A frame from
+// either is held to the pit's own axis (measure_surface.cpp,
+// kMaxWeakFrameLean).
 inline bool weak_opening(const Opening &o) { return !on_ground(o) && (!o.rim_plane || o.partial); }
 // Method surface: re-levels t on the plane of the opening: the ground ring
 // when the scan has one, else the rim plane (the wall's top edge), else the
