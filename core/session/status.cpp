@@ -140,8 +140,8 @@ extern "C" const char *pv_pit_check_message(uint32_t check) {
              "(the scanner lost its tracking during the scan); scan the pit "
              "again in one steady pass";
     case PV_PIT_CHECK_SHIFTED_WALL:
-      return "a second wall lies behind the first, furthest on two opposite "
-             "sides and nowhere across them: the scan holds the pit twice, "
+      return "a second wall lies beside the first, furthest apart on two "
+             "opposite sides and nowhere across them: the scan holds the pit twice, "
              "shifted sideways (the scanner lost its tracking during the "
              "scan); scan the pit again in one steady pass";
     default: return "unknown check";

@@ -2106,13 +2106,14 @@ void wall_band_point(OccCtx *x, const Point &q) {
   ++(above ? x->o->wall_above : x->o->wall_below)[k];
 }
 
-// A point on the wall or behind it (Occupancy::on_wall, behind).
-void behind_wall_point(Occupancy *o, uint32_t sector, double behind) {
+// A point on the wall, or behind it around a vessel's cap (Occupancy::
+// on_wall, apart).
+void shift_band_point(Occupancy *o, uint32_t sector, double behind, bool vessel) {
   if (std::fabs(behind) <= kOnWallMm) {
     ++o->on_wall[sector];
-  } else if (behind > kBehindFromMm && behind <= kBehindToMm) {
-    ++o->behind[sector];
-    o->behind_mm[sector] += behind;
+  } else if (vessel && behind > kApartFromMm && behind <= kApartToMm) {
+    ++o->apart[sector];
+    o->apart_mm[sector] += behind;
   }
 }
 
@@ -2132,7 +2133,9 @@ void occupancy_pass(void *c, const Point &q) {
   const double r = std::sqrt(dx * dx + dy * dy);
   const uint32_t t = theta_of(x->cache, idx, dx, dy, *x->ws->theta);
   const double wall = radius_at(x->ws->wall_val, x->g, t, q.z);
-  if (q.z < m.rim_mm - kShiftTopMm) behind_wall_point(x->o, t * kRimSectors / x->g.T, r - wall);
+  const bool shift_band = q.z < m.rim_mm - kShiftTopMm;
+  const uint32_t sector = t * kRimSectors / x->g.T;
+  if (shift_band) shift_band_point(x->o, sector, r - wall, m.vessel_lip);
   if (r > wall - x->margin) return;
   const double fx = x->g.per_cell.of(q.x - x->g.fx0), fy = x->g.per_cell.of(q.y - x->g.fy0);
   double floor_z = 0.0;
@@ -2142,6 +2145,11 @@ void occupancy_pass(void *c, const Point &q) {
   }
   if (q.z < floor_z + x->margin) return;
   ++x->o->inside;
+  // In front of the outer of two walls (Occupancy::apart).
+  if (shift_band && !m.vessel_lip && wall - r <= kApartToMm) {
+    ++x->o->apart[sector];
+    x->o->apart_mm[sector] += wall - r;
+  }
 }
 
 }  // namespace
@@ -2162,41 +2170,52 @@ Occupancy occupancy(const PointSource &src, const Workspace &ws, const Model &m,
 
 ShiftedWall shifted_wall(const Occupancy &o) {
   double d[kRimSectors], mean = 0;
-  uint64_t on = 0, behind = 0;
+  uint64_t on = 0, apart = 0;
   for (uint32_t k = 0; k < kRimSectors; ++k) {
     on += o.on_wall[k];
-    behind += o.behind[k];
-    const bool some = o.behind[k] >= kMinBehindPoints && double(o.behind[k]) >= kMinBehindShare * o.on_wall[k];
-    d[k] = some ? o.behind_mm[k] / o.behind[k] : 0.0;
+    apart += o.apart[k];
+    const bool some = o.apart[k] >= kMinApartPoints && double(o.apart[k]) >= kMinApartShare * o.on_wall[k];
+    d[k] = some ? o.apart_mm[k] / o.apart[k] : 0.0;
     mean += d[k];
   }
   mean /= kRimSectors;
-  ShiftedWall w{on ? double(behind) / double(on) : 0.0, 1.0};
+  ShiftedWall w{on ? double(apart) / double(on) : 0.0, 1.0, 1.0, 0.0};
   // |cos| of j sectors' turn (pv::sin_cos: the same bits everywhere).
-  double turn[kRimSectors];
+  double turn[kRimSectors], turn_mean = 0;
   for (uint32_t j = 0; j < kRimSectors; ++j) {
     double s = 0, c = 0;
     sin_cos(2.0 * kPi * j / kRimSectors, &s, &c);
     turn[j] = std::fabs(c);
+    turn_mean += turn[j];
   }
+  turn_mean /= kRimSectors;
   double flat = 0;
   for (const double v : d) flat += (v - mean) * (v - mean);
   if (!(flat > 0)) return w;
   // |cos| repeats every half turn: the shift's direction in the first half.
-  // The least-squares shift D = dc / cc leaves dd - dc^2 / cc.
+  // The least-squares shift D = dc / cc leaves dd - dc^2 / cc; with an
+  // offset, about the means.
   double dd = 0;
   for (const double v : d) dd += v * v;
-  double best = HUGE_VAL;
+  double best = HUGE_VAL, best_offset = flat;
   for (uint32_t a = 0; a < kRimSectors / 2; ++a) {
-    double cc = 0, dc = 0;
+    double cc = 0, dc = 0, cc0 = 0, dc0 = 0;
     for (uint32_t k = 0; k < kRimSectors; ++k) {
       const double c = turn[(k + kRimSectors - a) % kRimSectors];
       cc += c * c;
       dc += d[k] * c;
+      cc0 += (c - turn_mean) * (c - turn_mean);
+      dc0 += (d[k] - mean) * (c - turn_mean);
     }
     best = std::min(best, dd - dc * dc / cc);
+    const double left = flat - dc0 * dc0 / cc0;
+    if (dc0 > 0 && left < best_offset) {
+      best_offset = left;
+      w.shift_mm = dc0 / cc0;
+    }
   }
   w.fit = best / flat;
+  w.offset_fit = best_offset / flat;
   return w;
 }
 

@@ -331,10 +331,14 @@ struct Occupancy {
   uint64_t rim_level, over_mouth;
   // Per kRimSectors sector, the points from the bottom to kShiftTopMm under
   // the rim within kOnWallMm of the wall grid's value at their height and
-  // angle, and those kBehindFromMm to kBehindToMm behind it, with the sum
-  // of their distances behind (shifted_wall()).
-  uint32_t on_wall[kRimSectors], behind[kRimSectors];
-  double behind_mm[kRimSectors];
+  // angle, and those where a second copy of the wall would lie, with the
+  // sum of their distances from it (shifted_wall()): around a vessel's cap
+  // (Model::vessel_lip: the model keeps the inner of two walls)
+  // kApartFromMm to kApartToMm behind it; elsewhere (the model keeps the
+  // outer wall) up to kApartToMm in front of it, inside the void (counted
+  // in inside: margin_mm in front of the wall and above the floor).
+  uint32_t on_wall[kRimSectors], apart[kRimSectors];
+  double apart_mm[kRimSectors];
 };
 constexpr double kMouthBandMm = 1.5;
 constexpr double kMouthMarginMm = 5.0;
@@ -352,22 +356,28 @@ struct SecondLevel {
   uint32_t sectors, top_sectors;  // sectors its points / the top's lie in
 };
 SecondLevel second_level(const Occupancy &o);
-// A pass slipped sideways by more than the ghost window (ghost_mm) whose
-// two wall tops were read as a vessel's lip: capped there, the model keeps
-// the inner of the two walls all round (the pits' intersection) and the
-// other pass's wall lies behind it, by the shift times |cos| of the angle
-// to it, two opposite sides at the full shift and none across them. A
-// vessel's outer wall lies behind its inner one by about the lip's width
-// all round. share: the points behind over those on the wall; fit: the
-// squared residual of the sectors' mean distances behind (0 for a sector
-// with under kMinBehindPoints or kMinBehindShare of its wall's points)
-// about D |cos(angle - a)| at the best a and D, over their residual about
-// their mean (1 where all are equal).
-constexpr double kOnWallMm = 1.5, kBehindFromMm = 3.0, kBehindToMm = 40.0, kShiftTopMm = 3.0;
-constexpr uint32_t kMinBehindPoints = 5;
-constexpr double kMinBehindShare = 0.05;
+// A pass slipped sideways by more than the ghost window (ghost_mm): the
+// other pass's wall lies apart from the model's by the shift times |cos|
+// of the angle to it, two opposite sides at the full shift and none across
+// them. Where the two wall tops were read as a vessel's lip, capped there,
+// the model keeps the inner of the two walls all round (the pits'
+// intersection) and the other lies behind it; elsewhere the model keeps
+// the outer (their union) and the other lies in front of it, in the void.
+// A vessel's outer wall lies behind its inner one by about the lip's width
+// all round. share: the points apart over those on the wall; fit: the
+// squared residual of the sectors' mean distances apart (0 for a sector
+// with under kMinApartPoints or kMinApartShare of its wall's points) about
+// D |cos(angle - a)| at the best a and D, over their residual about their
+// mean (1 where all are equal); offset_fit and shift_mm: the same about
+// c + D |cos(angle - a)| with D > 0 (the distances nearest across the
+// shift are cut off at kApartFromMm, or at the inside margin, and a
+// textured wall's own relief adds to all) and its D (1 and 0 where no
+// D > 0 fits).
+constexpr double kOnWallMm = 1.5, kApartFromMm = 3.0, kApartToMm = 40.0, kShiftTopMm = 3.0;
+constexpr uint32_t kMinApartPoints = 5;
+constexpr double kMinApartShare = 0.05;
 struct ShiftedWall {
-  double share, fit;
+  double share, fit, offset_fit, shift_mm;
 };
 ShiftedWall shifted_wall(const Occupancy &o);
 // The wall going on above the rim: the sectors with kMinWallAbovePoints or

@@ -400,8 +400,8 @@ pv::surface::Occupancy behind_wall(const double *mm, const uint32_t *count) {
   pv::surface::Occupancy o{};
   for (uint32_t k = 0; k < pv::surface::kRimSectors; ++k) {
     o.on_wall[k] = 100;
-    o.behind[k] = count[k];
-    o.behind_mm[k] = mm[k] * count[k];
+    o.apart[k] = count[k];
+    o.apart_mm[k] = mm[k] * count[k];
   }
   return o;
 }
@@ -414,12 +414,31 @@ void sideways_shift_follows_cos(void **) {
     // Shifted 10 mm towards sector 4's centre; within 3 mm nothing counts.
     const double d = 10.0 * std::fabs(std::cos(2.0 * kPi * (double(k) - 4.0) / n));
     mm[k] = d;
-    count[k] = d > pv::surface::kBehindFromMm ? 70 : 0;
+    count[k] = d > pv::surface::kApartFromMm ? 70 : 0;
     behind += count[k];
   }
   const pv::surface::ShiftedWall w = pv::surface::shifted_wall(behind_wall(mm, count));
   assert_true(w.fit < 0.05);
   assert_true(std::fabs(w.share - behind / (100.0 * n)) < 1e-12);
+}
+
+// Across the shift the other wall comes within the count's cut-off
+// (kApartFromMm, or the inside margin in front of a union): the sectors
+// there keep the distances the count starts at, a floor under D |cos|.
+// Fitted without an offset that floor reads as no shift; with one, the
+// shift shows (the check's limits: 0.2 around a vessel, 0.35 elsewhere).
+void sideways_shift_over_cut_off_fits_with_offset(void **) {
+  constexpr uint32_t n = pv::surface::kRimSectors;
+  double mm[n];
+  uint32_t count[n];
+  for (uint32_t k = 0; k < n; ++k) {
+    mm[k] = std::max(10.0 * std::fabs(std::cos(2.0 * kPi * (double(k) - 4.0) / n)), 5.5);
+    count[k] = 70;
+  }
+  const pv::surface::ShiftedWall w = pv::surface::shifted_wall(behind_wall(mm, count));
+  assert_true(w.fit > 0.5);
+  assert_true(w.offset_fit < 0.2);
+  assert_true(w.shift_mm > 4.0 && w.shift_mm < 10.0);
 }
 
 void vessel_outer_wall_is_no_shift(void **) {
@@ -433,17 +452,20 @@ void vessel_outer_wall_is_no_shift(void **) {
     mm[k] = 8.0 + ((k % 3) - 1.0) * 0.5;
     count[k] = seen ? 40 : 0;
   }
-  assert_true(pv::surface::shifted_wall(behind_wall(mm, count)).fit > 0.3);
+  const pv::surface::ShiftedWall arcs = pv::surface::shifted_wall(behind_wall(mm, count));
+  assert_true(arcs.fit > 0.3);
+  assert_true(arcs.offset_fit > 0.3);
   // Seen all round, every sector alike: nothing to fit.
   for (uint32_t k = 0; k < n; ++k) {
     mm[k] = 8.0;
     count[k] = 40;
   }
-  assert_true(pv::surface::shifted_wall(behind_wall(mm, count)).fit == 1.0);
+  const pv::surface::ShiftedWall round = pv::surface::shifted_wall(behind_wall(mm, count));
+  assert_true(round.fit == 1.0 && round.offset_fit == 1.0);
   // A few strays behind a sector count for nothing.
   for (uint32_t k = 0; k < n; ++k) count[k] = k == 5 ? 4 : 0;
   const pv::surface::ShiftedWall strays = pv::surface::shifted_wall(behind_wall(mm, count));
-  assert_true(strays.fit == 1.0);
+  assert_true(strays.fit == 1.0 && strays.offset_fit == 1.0);
   assert_true(strays.share < 0.01);
 }
 
@@ -466,6 +488,7 @@ int main() {
       cmocka_unit_test(coarse_ellipse_borrows_slope),
       cmocka_unit_test(coarse_bowl_floods_its_sides),
       cmocka_unit_test(sideways_shift_follows_cos),
+      cmocka_unit_test(sideways_shift_over_cut_off_fits_with_offset),
       cmocka_unit_test(vessel_outer_wall_is_no_shift),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
